@@ -1,0 +1,26 @@
+# softbench_add_library(NAME SOURCES... [PUBLIC_LINK ...] [PRIVATE_LINK ...])
+# One library per folder: softbench_<name>, aliased softbench::<name>, includes rooted at the repo.
+function(softbench_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_LINK;PRIVATE_LINK" ${ARGN})
+  add_library(softbench_${name} ${ARG_SOURCES})
+  add_library(softbench::${name} ALIAS softbench_${name})
+  target_include_directories(softbench_${name} PUBLIC ${PROJECT_SOURCE_DIR})
+  target_link_libraries(softbench_${name} PUBLIC ${ARG_PUBLIC_LINK}
+                        PRIVATE softbench::warnings ${ARG_PRIVATE_LINK})
+endfunction()
+
+# softbench_add_test(NAME SOURCES... LINK ...): one GoogleTest executable, tests discovered by ctest.
+function(softbench_add_test name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench_test_support GTest::gmock GTest::gtest_main
+                        softbench::warnings)
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60)
+endfunction()
+
+# softbench_add_bench(NAME SOURCES... LINK ...): one Google Benchmark executable.
+function(softbench_add_bench name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LINK} benchmark::benchmark_main softbench::warnings)
+endfunction()

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "geometry/tet_mesh.h"
+#include "geometry/tri_mesh.h"
+
+namespace softbench {
+
+/// The boundary of a tet mesh: faces used by exactly one tet, oriented outward (counter-clockwise
+/// seen from outside, given the TetMesh's positive orientation), indexing the tet mesh's
+/// vertices, sorted for determinism.
+Eigen::Matrix3Xi boundary_triangles(const Eigen::Matrix4Xi& tets);
+
+/// The boundary as a stand-alone surface: only the vertices it uses, renumbered in increasing
+/// order of their tet-mesh index; `tet_vertex_of[i]` (if given) is the tet-mesh index of surface
+/// vertex i.
+TriMesh boundary_surface(const TetMesh& mesh, std::vector<int>* tet_vertex_of = nullptr);
+
+/// Unique undirected edges, each as (smaller, larger) index, sorted lexicographically.
+Eigen::Matrix2Xi unique_edges(const Eigen::Matrix4Xi& tets);  ///< 2 x #E
+Eigen::Matrix2Xi unique_edges(const Eigen::Matrix3Xi& triangles);
+
+/// Edge-based topology of a triangle surface.
+struct SurfaceTopology {
+  int boundary_edges = 0;       ///< edges used by one triangle (open surface)
+  int non_manifold_edges = 0;   ///< edges used by three or more triangles
+  int misoriented_edges = 0;    ///< edges two triangles traverse in the same direction
+  int components = 0;           ///< connected components (through shared vertices)
+  int euler_characteristic = 0; ///< V - E + F over referenced vertices
+  int unreferenced_vertices = 0;
+
+  bool closed_manifold() const { return boundary_edges == 0 && non_manifold_edges == 0; }
+  bool oriented() const { return misoriented_edges == 0; }
+};
+SurfaceTopology surface_topology(const Eigen::Matrix3Xi& triangles, int num_vertices);
+
+}  // namespace softbench

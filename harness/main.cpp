@@ -1,0 +1,28 @@
+// SPDX-License-Identifier: MIT
+// softbench: the command line. Bad input exits 2 with one line naming the file and the problem;
+// any other failure exits 1.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+
+#include "geometry/input_error.h"
+#include "harness/mesh_commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"softbench: a soft-body physics testbed (mass-spring, corotational FEM, shape "
+               "matching, Bullet) on a liver scene"};
+  app.require_subcommand(1);
+  softbench::harness::add_mesh_commands(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  } catch (const softbench::InputError& error) {
+    std::cerr << "softbench: error: " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "softbench: internal error: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
