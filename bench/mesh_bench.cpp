@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 // Mesh-side costs a model or the harness pays once per scene (loading, boundary extraction,
 // quality) or per frame (boundary extraction for rendering), on the shipped livers.
-#include <benchmark/benchmark.h>
-#include <string>
-
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/mesh_validation.h"
 #include "scenes/shipped_data.h"
+
+#include <benchmark/benchmark.h>
+
+#include <string>
 
 namespace softbench {
 namespace {
@@ -44,14 +45,14 @@ void register_benchmarks() {
                                    set_counters(state, mesh);
                                  })
         ->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("BM_TetQuality/" + std::string(name)).c_str(),
-                                 [mesh](benchmark::State& state) {
-                                   for (auto _ : state) {
-                                     benchmark::DoNotOptimize(
-                                         tet_quality(mesh.vertices, mesh.tetrahedra));
-                                   }
-                                   set_counters(state, mesh);
-                                 })
+    benchmark::RegisterBenchmark(
+        ("BM_TetQuality/" + std::string(name)).c_str(),
+        [mesh](benchmark::State& state) {
+          for (auto _ : state) {
+            benchmark::DoNotOptimize(tet_quality(mesh.vertices, mesh.tetrahedra));
+          }
+          set_counters(state, mesh);
+        })
         ->Unit(benchmark::kMillisecond);
   }
 }

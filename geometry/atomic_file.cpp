@@ -48,7 +48,7 @@ void write_file_atomically(const std::filesystem::path& path,
   }
   if (!out) {
     std::filesystem::remove(temporary, ignored);
-    throw_cannot_write(path, "write failed; disk full?");
+    throw_cannot_write(path, "I/O error while writing; is the disk full?");
   }
   std::error_code error;
   std::filesystem::rename(temporary, path, error);

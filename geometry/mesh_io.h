@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "geometry/mesh_data.h"
+
 #include <filesystem>
 #include <span>
 #include <string>
-
-#include "geometry/mesh_data.h"
 
 namespace softbench {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <Eigen/Core>
-
 #include "geometry/tet_mesh.h"
 #include "geometry/tri_mesh.h"
+
+#include <Eigen/Core>
 
 namespace softbench {
 

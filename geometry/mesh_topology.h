@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <Eigen/Core>
-#include <vector>
-
 #include "geometry/tet_mesh.h"
 #include "geometry/tri_mesh.h"
+
+#include <Eigen/Core>
+
+#include <vector>
 
 namespace softbench {
 
@@ -25,11 +26,11 @@ Eigen::Matrix2Xi unique_edges(const Eigen::Matrix3Xi& triangles);
 
 /// Edge-based topology of a triangle surface.
 struct SurfaceTopology {
-  int boundary_edges = 0;       ///< edges used by one triangle (open surface)
-  int non_manifold_edges = 0;   ///< edges used by three or more triangles
-  int misoriented_edges = 0;    ///< edges two triangles traverse in the same direction
-  int components = 0;           ///< connected components (through shared vertices)
-  int euler_characteristic = 0; ///< V - E + F over referenced vertices
+  int boundary_edges = 0;        ///< edges used by one triangle (open surface)
+  int non_manifold_edges = 0;    ///< edges used by three or more triangles
+  int misoriented_edges = 0;     ///< edges two triangles traverse in the same direction
+  int components = 0;            ///< connected components (through shared vertices)
+  int euler_characteristic = 0;  ///< V - E + F over referenced vertices
   int unreferenced_vertices = 0;
 
   bool closed_manifold() const { return boundary_edges == 0 && non_manifold_edges == 0; }

@@ -403,7 +403,8 @@ int orient_tets_positively(const Eigen::Matrix3Xd& vertices, Eigen::Matrix4Xi& t
   for (Eigen::Index t = 0; t < tets.cols(); ++t) {
     auto tet = tets.col(t);
     if (signed_tet_volume(vertices.col(tet(0)), vertices.col(tet(1)), vertices.col(tet(2)),
-                          vertices.col(tet(3))) < 0.0) {
+                          vertices.col(tet(3)))
+        < 0.0) {
       // An odd permutation of the vertices flips the sign of the volume and nothing else.
       std::swap(tet(2), tet(3));
       ++flipped;

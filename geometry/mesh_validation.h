@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include "geometry/mesh_data.h"
 #include "geometry/tet_mesh.h"
 #include "geometry/tri_mesh.h"
+
+#include <string>
+#include <vector>
 
 namespace softbench {
 

@@ -154,9 +154,8 @@ class MshReader {
         return;
       }
     }
-    text_.fail_at(start, concat("section ", name,
-                                " has no matching end before the end of "
-                                "the file"));
+    text_.fail_at(start,
+                  concat("section ", name, " has no matching end before the end of the file"));
   }
 
   // The next line of a section that should hold `found` + 1 of `expected` items, with the count
@@ -166,13 +165,9 @@ class MshReader {
                      std::string_view items,
                      std::string_view section) {
     std::optional<TextLine> line = text_.next_line();
-    const std::string shortfall =
-        concat("expected ", expected, " ", items, " in ", section, ", found ", found, " before ");
-    if (!line) {
-      text_.fail(concat(shortfall, "end of file"));
-    }
-    if ((*line)[0].front() == '$') {
-      text_.fail(concat(shortfall, (*line)[0]));
+    if (!line || (*line)[0].front() == '$') {
+      text_.fail(concat("expected ", expected, " ", items, " in ", section, ", found ", found,
+                        " before ", line ? (*line)[0] : "end of file"));
     }
     return std::move(*line);
   }
@@ -198,10 +193,9 @@ class MshReader {
 
   void add_node(std::string_view tag_token, const TextLine& line, std::size_t first_coordinate) {
     const std::int64_t tag = text_.parse_integer(tag_token, "node number");
-    const std::string owner = concat("node ", tag);
-    const double x = text_.parse_coordinate(line[first_coordinate], owner);
-    const double y = text_.parse_coordinate(line[first_coordinate + 1], owner);
-    const double z = text_.parse_coordinate(line[first_coordinate + 2], owner);
+    const double x = text_.parse_coordinate(line[first_coordinate], "node", tag);
+    const double y = text_.parse_coordinate(line[first_coordinate + 1], "node", tag);
+    const double z = text_.parse_coordinate(line[first_coordinate + 2], "node", tag);
     if (!node_index_.emplace(tag, mesh_.vertex_count()).second) {
       text_.fail(concat("node ", tag, " is defined twice"));
     }
@@ -279,6 +273,17 @@ class MshReader {
     return *kind;
   }
 
+  // Fails unless `line` holds `leading` values (`layout`), then the element's node numbers.
+  void require_element_values(const TextLine& line,
+                              std::size_t leading,
+                              std::string_view layout,
+                              const ElementKind& kind) const {
+    const std::size_t expected = leading + static_cast<std::size_t>(kind.nodes);
+    if (line.size() != expected) {  // the message is built only when needed: once per element
+      text_.require_tokens(line, expected, concat(layout, " and ", kind.nodes, " node numbers"));
+    }
+  }
+
   void add_element(const ElementKind& kind,
                    std::string_view id,
                    const TextLine& line,
@@ -319,9 +324,8 @@ class MshReader {
         // elm-number elm-type reg-phys reg-elem number-of-nodes node-number-list
         text_.require_min_tokens(line, 5, "elm-number elm-type reg-phys reg-elem number-of-nodes");
         const ElementKind& kind = element_kind(line[1]);
-        text_.require_tokens(line, 5 + static_cast<std::size_t>(kind.nodes),
-                             concat("elm-number elm-type reg-phys reg-elem number-of-nodes and ",
-                                    kind.nodes, " node numbers"));
+        require_element_values(line, 5, "elm-number elm-type reg-phys reg-elem number-of-nodes",
+                               kind);
         if (text_.parse_integer(line[4], "number of nodes") != kind.nodes) {
           text_.fail(concat("element type ", kind.type, " has ", kind.nodes,
                             " nodes, but the line says ", line[4]));
@@ -333,9 +337,8 @@ class MshReader {
         const ElementKind& kind = element_kind(line[1]);
         const std::size_t tags =
             static_cast<std::size_t>(text_.parse_count(line[2], "number of tags"));
-        text_.require_tokens(line, 3 + tags + static_cast<std::size_t>(kind.nodes),
-                             concat("elm-number elm-type number-of-tags, ", tags, " tags and ",
-                                    kind.nodes, " node numbers"));
+        require_element_values(line, 3 + tags, "elm-number elm-type number-of-tags, the tags",
+                               kind);
         add_element(kind, line[0], line, 3 + tags);
       }
     }
@@ -359,8 +362,7 @@ class MshReader {
       }
       for (int i = 0; i < in_block; ++i, ++read) {
         const TextLine line = item_line(read, total, "elements", "$Elements");
-        text_.require_tokens(line, 1 + static_cast<std::size_t>(kind.nodes),
-                             concat("element tag and ", kind.nodes, " node tags"));
+        require_element_values(line, 1, "element tag", kind);
         add_element(kind, line[0], line, 1);
       }
     }

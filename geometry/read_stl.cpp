@@ -8,7 +8,6 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -21,9 +20,29 @@ namespace {
 constexpr std::size_t kBinaryHeaderBytes = 84;    // 80-byte comment + uint32 triangle count
 constexpr std::size_t kBinaryTriangleBytes = 50;  // normal, 3 corners (float32 x 12), uint16
 
-std::uint64_t binary_size_for(const std::string& bytes) {
-  const auto count = load_number<std::uint32_t>(bytes.data() + 80, std::endian::little);
-  return kBinaryHeaderBytes + kBinaryTriangleBytes * std::uint64_t{count};
+std::uint32_t binary_triangle_count(const std::string& bytes) {
+  return load_number<std::uint32_t>(bytes.data() + 80, std::endian::little);
+}
+
+std::uint64_t binary_size_for(std::uint32_t triangles) {
+  return kBinaryHeaderBytes + kBinaryTriangleBytes * std::uint64_t{triangles};
+}
+
+bool has_binary_size(const std::string& bytes) {
+  return bytes.size() >= kBinaryHeaderBytes
+         && binary_size_for(binary_triangle_count(bytes)) == bytes.size();
+}
+
+// Why a file that is not ASCII cannot be binary either.
+std::string binary_size_problem(const std::string& bytes) {
+  if (bytes.size() < kBinaryHeaderBytes) {
+    return concat("truncated: a binary STL needs an 84-byte header, file has ", bytes.size(),
+                  " bytes");
+  }
+  const std::uint32_t triangles = binary_triangle_count(bytes);
+  const std::uint64_t expected = binary_size_for(triangles);
+  return concat(expected > bytes.size() ? "truncated" : "size mismatch", ": header says ",
+                triangles, " triangles (", expected, " bytes), file has ", bytes.size(), " bytes");
 }
 
 // An ASCII file starts with "solid" and holds only text. Binary files often start with "solid"
@@ -42,9 +61,9 @@ bool looks_like_ascii(std::string_view bytes) {
 }
 
 std::vector<double> read_binary_corners(const std::string& bytes, const std::string& file) {
-  const auto count = load_number<std::uint32_t>(bytes.data() + 80, std::endian::little);
+  const std::uint32_t count = binary_triangle_count(bytes);
   std::vector<double> corners;
-  corners.reserve(9 * std::size_t{count});  // the caller checked the size against the count
+  corners.reserve(9 * std::size_t{count});  // has_binary_size() checked the count
   for (std::uint32_t t = 0; t < count; ++t) {
     // Normals are skipped: they are recomputed from the corners, and exporters write NaN ones
     // for degenerate triangles.
@@ -53,10 +72,8 @@ std::vector<double> read_binary_corners(const std::string& bytes, const std::str
       for (int axis = 0; axis < 3; ++axis, corner += 4) {
         const double value = load_number<float>(corner, std::endian::little);
         if (!std::isfinite(value)) {
-          std::ostringstream problem;
-          problem << "triangle " << t + 1 << ": vertex " << k + 1
-                  << " has a non-finite coordinate (" << value << ")";
-          throw_file_error(file, problem.str());
+          throw_file_error(file, concat("triangle ", t + 1, ": vertex ", k + 1,
+                                        " has a non-finite coordinate (", value, ")"));
         }
         corners.push_back(value);
       }
@@ -65,20 +82,27 @@ std::vector<double> read_binary_corners(const std::string& bytes, const std::str
   return corners;
 }
 
+// The next line, which must be `statement` ("outer loop") or start with it ("vertex 1 2 3").
+TextLine expect_statement(TextTokenizer& text, std::string_view statement) {
+  std::optional<TextLine> line = text.next_line();
+  const std::size_t space = statement.find(' ');
+  const std::string_view first = statement.substr(0, space);
+  const std::string_view second =
+      space == std::string_view::npos ? std::string_view() : statement.substr(space + 1);
+  if (!line || (*line)[0] != first
+      || (!second.empty() && (line->size() < 2 || (*line)[1] != second))) {
+    text.fail(concat("expected '", statement, "', found ",
+                     line ? quoted_token((*line)[0]) : std::string("end of file")));
+  }
+  return std::move(*line);
+}
+
 // solid <name> / facet normal nx ny nz / outer loop / vertex x y z (x3) / endloop / endfacet /
 // endsolid <name>; several solids may follow one another.
 std::vector<double> read_ascii_corners(std::string bytes, const std::string& file) {
   TextTokenizer text(file, std::move(bytes));
-  const auto expect = [&text](std::string_view first, std::string_view second) {
-    const std::string statement = second.empty() ? std::string(first) : concat(first, " ", second);
-    TextLine line = text.expect_line(concat("'", statement, "'"));
-    if (line[0] != first || (!second.empty() && (line.size() < 2 || line[1] != second))) {
-      text.fail(concat("expected '", statement, "', found ", quoted_token(line[0])));
-    }
-    return line;
-  };
   std::vector<double> corners;
-  expect("solid", "");
+  expect_statement(text, "solid");
   int facet = 0;
   while (true) {
     const TextLine line = text.expect_line("'facet normal' or 'endsolid'");
@@ -97,17 +121,16 @@ std::vector<double> read_ascii_corners(std::string bytes, const std::string& fil
       text.fail(concat("expected 'facet normal' or 'endsolid', found ", quoted_token(line[0])));
     }
     ++facet;
-    expect("outer", "loop");
-    for (int k = 1; k <= 3; ++k) {
-      const TextLine vertex = expect("vertex", "");
+    expect_statement(text, "outer loop");
+    for (int k = 0; k < 3; ++k) {
+      const TextLine vertex = expect_statement(text, "vertex");
       text.require_tokens(vertex, 4, "vertex x y z");
-      const std::string owner = concat("vertex ", k, " of facet ", facet);
       for (std::size_t axis = 1; axis <= 3; ++axis) {
-        corners.push_back(text.parse_coordinate(vertex[axis], owner));
+        corners.push_back(text.parse_coordinate(vertex[axis], "facet", facet));
       }
     }
-    expect("endloop", "");
-    expect("endfacet", "");
+    expect_statement(text, "endloop");
+    expect_statement(text, "endfacet");
   }
   return corners;
 }
@@ -121,27 +144,17 @@ MeshData read_stl(const std::filesystem::path& path, double weld_tolerance) {
   }
   std::string bytes = read_file_bytes(path);
   std::vector<double> corners;
-  if (bytes.size() >= kBinaryHeaderBytes && binary_size_for(bytes) == bytes.size()) {
+  if (has_binary_size(bytes)) {
     corners = read_binary_corners(bytes, file);
   } else if (looks_like_ascii(bytes)) {
     corners = read_ascii_corners(std::move(bytes), file);
-  } else if (bytes.size() < kBinaryHeaderBytes) {
-    throw_file_error(file, concat("truncated: a binary STL needs an 84-byte header, file has ",
-                                  bytes.size(), " bytes"));
   } else {
-    const auto count = load_number<std::uint32_t>(bytes.data() + 80, std::endian::little);
-    std::ostringstream problem;
-    problem << (binary_size_for(bytes) > bytes.size() ? "truncated" : "size mismatch")
-            << ": header says " << count << " triangles (" << binary_size_for(bytes)
-            << " bytes), file has " << bytes.size() << " bytes";
-    throw_file_error(file, problem.str());
+    throw_file_error(file, binary_size_problem(bytes));
   }
 
   const Eigen::Index corner_count = static_cast<Eigen::Index>(corners.size() / 3);
-  const Eigen::Map<const Eigen::Matrix3Xd> soup(corners.data(), 3, corner_count);
-  const double diagonal =
-      corner_count == 0 ? 0.0 : (soup.rowwise().maxCoeff() - soup.rowwise().minCoeff()).norm();
-  WeldedVertices welded = weld_vertices(soup, weld_tolerance * diagonal);
+  WeldedVertices welded = weld_vertices(
+      Eigen::Map<const Eigen::Matrix3Xd>(corners.data(), 3, corner_count), weld_tolerance);
 
   MeshData mesh;
   mesh.vertices = std::move(welded.vertices);

@@ -46,8 +46,9 @@ int read_items(TextTokenizer& text,
                std::size_t tokens,
                std::string_view item,
                std::string_view layout,
-               const std::function<void(const TextLine&)>& read_item) {
+               const std::function<void(const TextLine&, std::int64_t index)>& read_item) {
   text.check_count_fits(count, concat(item, "s"));
+  const std::string index_name = concat(item, " index");
   int first_index = 0;
   for (int i = 0; i < count; ++i) {
     std::optional<TextLine> line = text.next_line();
@@ -55,7 +56,7 @@ int read_items(TextTokenizer& text,
       text.fail(concat("expected ", count, " ", item, "s, found ", i, " before end of file"));
     }
     text.require_tokens(*line, tokens, layout);
-    const std::int64_t index = text.parse_integer((*line)[0], concat(item, " index"));
+    const std::int64_t index = text.parse_integer((*line)[0], index_name);
     if (i == 0) {
       if (index != 0 && index != 1) {
         text.fail(concat("first ", item, " index must be 0 or 1, found ", index));
@@ -65,7 +66,7 @@ int read_items(TextTokenizer& text,
       text.fail(concat("expected ", item, " index ", first_index + i, ", found ", index,
                        " (indices must be consecutive)"));
     }
-    read_item(*line);
+    read_item(*line, index);
   }
   if (const std::optional<TextLine> extra = text.next_line()) {
     text.fail(concat("expected ", count, " ", item,
@@ -103,14 +104,15 @@ VertexNumbering read_node_file(const std::filesystem::path& path, MeshBuilder& m
   if (markers > 1) {
     text.fail(concat("number of boundary markers must be 0 or 1, found ", markers));
   }
-  const std::size_t tokens = 4 + static_cast<std::size_t>(attributes + markers);
-  const int first_index = read_items(text, count, tokens, "point",
-                                     "index x y z, attributes, marker", [&](const TextLine& line) {
-                                       const std::string owner = concat("point ", line[0]);
-                                       mesh.add_vertex(text.parse_coordinate(line[1], owner),
-                                                       text.parse_coordinate(line[2], owner),
-                                                       text.parse_coordinate(line[3], owner));
-                                     });
+  const auto add_point = [&](const TextLine& line, std::int64_t index) {
+    mesh.add_vertex(text.parse_coordinate(line[1], "point", index),
+                    text.parse_coordinate(line[2], "point", index),
+                    text.parse_coordinate(line[3], "point", index));
+  };
+  const std::size_t tokens =
+      4 + static_cast<std::size_t>(attributes) + static_cast<std::size_t>(markers);
+  const int first_index =
+      read_items(text, count, tokens, "point", "index x y z, attributes, marker", add_point);
   return {path.filename().string(), first_index, count};
 }
 
@@ -128,13 +130,13 @@ void read_ele_file(const std::filesystem::path& path,
   if (nodes_per_tet != 4) {
     text.fail(concat("expected 4 nodes per tetrahedron, found ", nodes_per_tet));
   }
+  const auto add_tet = [&](const TextLine& line, std::int64_t) {
+    mesh.add_tetrahedron(
+        vertex_reference(text, line[1], numbering), vertex_reference(text, line[2], numbering),
+        vertex_reference(text, line[3], numbering), vertex_reference(text, line[4], numbering));
+  };
   read_items(text, count, 5 + static_cast<std::size_t>(attributes), "tetrahedron",
-             "index n1 n2 n3 n4, attributes", [&](const TextLine& line) {
-               mesh.add_tetrahedron(vertex_reference(text, line[1], numbering),
-                                    vertex_reference(text, line[2], numbering),
-                                    vertex_reference(text, line[3], numbering),
-                                    vertex_reference(text, line[4], numbering));
-             });
+             "index n1 n2 n3 n4, attributes", add_tet);
 }
 
 // <#faces> <#boundary markers (0 or 1)>
@@ -147,12 +149,13 @@ void read_face_file(const std::filesystem::path& path,
   if (markers > 1) {
     text.fail(concat("number of boundary markers must be 0 or 1, found ", markers));
   }
+  const auto add_face = [&](const TextLine& line, std::int64_t) {
+    mesh.add_triangle(vertex_reference(text, line[1], numbering),
+                      vertex_reference(text, line[2], numbering),
+                      vertex_reference(text, line[3], numbering));
+  };
   read_items(text, count, 4 + static_cast<std::size_t>(markers), "face", "index n1 n2 n3, marker",
-             [&](const TextLine& line) {
-               mesh.add_triangle(vertex_reference(text, line[1], numbering),
-                                 vertex_reference(text, line[2], numbering),
-                                 vertex_reference(text, line[3], numbering));
-             });
+             add_face);
 }
 
 }  // namespace

@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -216,9 +215,12 @@ class VtkReader {
     } else {
       values.reserve(text_.check_count_fits(count, concat("values of ", what)));
       while (static_cast<std::int64_t>(values.size()) < count) {
-        const std::string_view token =
-            text_.expect_token(concat(count, " values of ", what, " (found ", values.size(), ")"));
-        values.push_back(parse_text(token, values.size()));
+        const std::optional<std::string_view> token = text_.next_token();
+        if (!token) {
+          text_.fail(concat("expected ", count, " values of ", what, ", found ", values.size(),
+                            " before end of file"));
+        }
+        values.push_back(parse_text(*token, values.size()));
       }
     }
     return values;
@@ -241,19 +243,15 @@ class VtkReader {
     text_.require_tokens(line, 3, "POINTS n type");
     const int count = text_.parse_count(line[1], "number of points");
     const VtkDataType& type = data_type(line[2]);
-    const std::string what = "POINTS";
-    const auto owner = [](std::size_t value) { return concat("point ", value / 3); };
     std::vector<double> coordinates = read_values<double>(
-        3 * std::int64_t{count}, type, what,
+        3 * std::int64_t{count}, type, "POINTS",
         [&](std::string_view token, std::size_t i) {
-          return text_.parse_coordinate(token, owner(i));
+          return text_.parse_coordinate(token, "point", static_cast<std::int64_t>(i / 3));
         },
         [&](const char* bytes, std::size_t i) {
           const double value = decode_real(bytes, type);
           if (!std::isfinite(value)) {
-            std::ostringstream problem;
-            problem << owner(i) << " has a non-finite coordinate (" << value << ")";
-            text_.fail(problem.str());
+            text_.fail(concat("point ", i / 3, " has a non-finite coordinate (", value, ")"));
           }
           return value;
         });
@@ -355,13 +353,13 @@ class VtkReader {
       const std::int64_t values = std::int64_t{text_.parse_count(array[1], "number of components")}
                                   * text_.parse_count(array[2], "number of tuples");
       const VtkDataType& type = data_type(array[3]);
+      const std::string what = concat("values of field array ", quoted_token(array[0]));
       if (binary_) {
-        text_.read_bytes(static_cast<std::size_t>(values) * type.bytes,
-                         concat("field array ", quoted_token(array[0])));
+        text_.read_bytes(static_cast<std::size_t>(values) * type.bytes, what);
       } else {
-        text_.check_count_fits(values, concat("values of field array ", quoted_token(array[0])));
+        text_.check_count_fits(values, what);
         for (std::int64_t i = 0; i < values; ++i) {
-          text_.expect_token(concat("values of field array ", quoted_token(array[0])));
+          text_.expect_token(what);
         }
       }
     }

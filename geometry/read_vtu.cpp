@@ -141,54 +141,49 @@ class VtuReader {
     if (format != "ascii") {
       text_.fail_at(tag.line,
                     concat("DataArray ", quoted_token(name), " has format=", quoted_token(format),
-                           "; only ascii arrays are supported (save the .vtu with ASCII "
-                           "data)"));
+                           "; only ascii arrays are supported (save the .vtu with ASCII data)"));
     }
-    if (tag.empty) {
-      read_array_values(tag, section, name, "", tag.line);
-      return;
+    std::string_view content;
+    int content_line = tag.line;
+    if (!tag.empty) {
+      const std::optional<std::string_view> text = text_.read_until("<");
+      content_line = text_.line_number();
+      const std::optional<std::string_view> end = text_.read_until(">");
+      if (!text || !end || *end != "/DataArray") {
+        text_.fail_at(tag.line, concat("DataArray ", quoted_token(name),
+                                       " is not closed by "
+                                       "</DataArray>"));
+      }
+      content = *text;
     }
-    const std::optional<std::string_view> content = text_.read_until("<");
-    const int content_line = text_.line_number();
-    if (!content) {
-      text_.fail_at(tag.line, concat("DataArray ", quoted_token(name), " is not closed"));
-    }
-    read_array_values(tag, section, name, std::string(*content), content_line);
-    const std::optional<std::string_view> end = text_.read_until(">");
-    if (!end || *end != "/DataArray") {
-      text_.fail(
-          concat("expected </DataArray>, found ", quoted_token(end.value_or("end of file"))));
-    }
-  }
-
-  void read_array_values(const XmlTag& tag,
-                         std::string_view section,
-                         const std::string& name,
-                         std::string content,
-                         int content_line) {
-    TextTokenizer values(text_.file(), std::move(content), 0, content_line);
     if (section == "Points") {
-      if (attribute(tag, "NumberOfComponents") != "3") {
-        text_.fail_at(tag.line, "the Points DataArray must have NumberOfComponents=\"3\"");
-      }
-      while (const std::optional<std::string_view> token = values.next_token()) {
-        mesh_.coordinates.push_back(
-            values.parse_coordinate(*token, concat("point ", mesh_.coordinates.size() / 3)));
-      }
-      have_points_ = true;
-      expect_count(tag, "Points", mesh_.coordinates.size(), 3 * std::size_t(point_count_));
+      read_points(tag, content, content_line);
     } else if (section == "Cells"
                && (name == "connectivity" || name == "offsets" || name == "types")) {
       std::vector<std::int64_t>& target = name == "connectivity" ? cells_.connectivity
                                           : name == "offsets"    ? offsets_
                                                                  : types_;
+      TextTokenizer values(text_.file(), std::string(content), 0, content_line);
       while (const std::optional<std::string_view> token = values.next_token()) {
         target.push_back(values.parse_integer(*token, name));
       }
       if (name != "connectivity") {
         expect_count(tag, name, target.size(), std::size_t(cell_count_));
       }
+    }  // other arrays (vertex fields) are not part of the mesh
+  }
+
+  void read_points(const XmlTag& tag, std::string_view content, int content_line) {
+    if (attribute(tag, "NumberOfComponents") != "3") {
+      text_.fail_at(tag.line, "the Points DataArray must have NumberOfComponents=\"3\"");
     }
+    TextTokenizer values(text_.file(), std::string(content), 0, content_line);
+    while (const std::optional<std::string_view> token = values.next_token()) {
+      mesh_.coordinates.push_back(values.parse_coordinate(
+          *token, "point", static_cast<std::int64_t>(mesh_.coordinates.size() / 3)));
+    }
+    have_points_ = true;
+    expect_count(tag, "Points", mesh_.coordinates.size(), 3 * std::size_t(point_count_));
   }
 
   void expect_count(const XmlTag& tag,

@@ -231,19 +231,22 @@ std::string_view TextTokenizer::read_bytes(std::size_t count, std::string_view w
   return bytes;
 }
 
-double TextTokenizer::parse_coordinate(std::string_view token, std::string_view owner) const {
+double TextTokenizer::parse_coordinate(std::string_view token,
+                                       std::string_view owner,
+                                       std::int64_t owner_number) const {
   const std::string_view digits = without_plus(token);
   double value = 0.0;
   const auto [end, error] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
   if (end != digits.data() + digits.size() || error == std::errc::invalid_argument) {
-    fail(concat(owner, " has a coordinate that is not a number (", quoted_token(token), ")"));
+    fail(concat(owner, " ", owner_number, " has a coordinate that is not a number (",
+                quoted_token(token), ")"));
   }
   if (error == std::errc::result_out_of_range) {
     // Overflow (1e999) is non-finite; underflow (1e-400) is a legitimate, tiny number.
     value = std::strtod(std::string(digits).c_str(), nullptr);
   }
   if (!std::isfinite(value)) {
-    fail(concat(owner, " has a non-finite coordinate (", printable(token), ")"));
+    fail(concat(owner, " ", owner_number, " has a non-finite coordinate (", printable(token), ")"));
   }
   return value;
 }

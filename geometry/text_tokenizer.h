@@ -85,9 +85,12 @@ class TextTokenizer {
   std::string_view read_bytes(std::size_t count, std::string_view what);
   std::size_t bytes_left() const { return content_.size() - position_; }
 
-  /// A coordinate; fails "<owner> has a non-finite coordinate (nan)" or "<owner> has a
-  /// coordinate that is not a number ('1.2.3')".
-  double parse_coordinate(std::string_view token, std::string_view owner) const;
+  /// A coordinate of, say, `owner` "vertex" number 2; fails "vertex 2 has a non-finite coordinate
+  /// (nan)" or "vertex 2 has a coordinate that is not a number ('1.2.3')". The owner comes in two
+  /// parts so that no message is built for the millions of coordinates that parse.
+  double parse_coordinate(std::string_view token,
+                          std::string_view owner,
+                          std::int64_t owner_number) const;
   /// A whole number; fails "expected an integer for <what>, found '...'".
   std::int64_t parse_integer(std::string_view token, std::string_view what) const;
   /// A count or index in [0, INT_MAX] (every count ends up as an Eigen::Index of int data).

@@ -28,7 +28,8 @@ struct CellHash {
 
 }  // namespace
 
-WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points, double tolerance) {
+WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                             double relative_tolerance) {
   WeldedVertices result;
   const Eigen::Index count = points.cols();
   result.index_of.resize(static_cast<std::size_t>(count));
@@ -37,6 +38,7 @@ WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points, d
   }
   const Eigen::Vector3d lowest = points.rowwise().minCoeff();
   const double diagonal = (points.rowwise().maxCoeff() - lowest).norm();
+  const double tolerance = relative_tolerance * diagonal;
   // Cells no narrower than 1e-12 of the extent keep cell coordinates far inside int64, whatever
   // the tolerance; a cell wider than the tolerance only means a few more distance checks.
   double cell_size = std::max(tolerance, 1e-12 * diagonal);
@@ -51,8 +53,8 @@ WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points, d
   };
 
   std::vector<Eigen::Vector3d> kept;
-  std::vector<int> next_in_cell;                          // chains kept vertices sharing a cell
-  std::unordered_map<Cell, int, CellHash> first_in_cell;  // cell -> last kept vertex added to it
+  std::vector<int> next_in_cell;                           // chains kept vertices sharing a cell
+  std::unordered_map<Cell, int, CellHash> newest_in_cell;  // cell -> its latest kept vertex
   const double squared_tolerance = tolerance * tolerance;
   for (Eigen::Index i = 0; i < count; ++i) {
     const Eigen::Vector3d point = points.col(i);
@@ -61,8 +63,8 @@ WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points, d
     for (std::int64_t dx = -1; dx <= 1 && match < 0; ++dx) {
       for (std::int64_t dy = -1; dy <= 1 && match < 0; ++dy) {
         for (std::int64_t dz = -1; dz <= 1 && match < 0; ++dz) {
-          const auto found = first_in_cell.find(Cell{cell.x + dx, cell.y + dy, cell.z + dz});
-          for (int k = found == first_in_cell.end() ? -1 : found->second; k >= 0;
+          const auto found = newest_in_cell.find(Cell{cell.x + dx, cell.y + dy, cell.z + dz});
+          for (int k = found == newest_in_cell.end() ? -1 : found->second; k >= 0;
                k = next_in_cell[static_cast<std::size_t>(k)]) {
             if ((kept[static_cast<std::size_t>(k)] - point).squaredNorm() <= squared_tolerance) {
               match = k;
@@ -75,7 +77,7 @@ WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points, d
     if (match < 0) {
       match = static_cast<int>(kept.size());
       kept.push_back(point);
-      auto [slot, inserted] = first_in_cell.try_emplace(cell, match);
+      auto [slot, inserted] = newest_in_cell.try_emplace(cell, match);
       next_in_cell.push_back(inserted ? -1 : slot->second);
       slot->second = match;
     }

@@ -12,10 +12,11 @@ struct WeldedVertices {
   std::vector<int> index_of;  ///< for each input point, its welded vertex
 };
 
-/// Merges points closer than `tolerance` (absolute, >= 0; 0 merges exact duplicates only) into
-/// the first such point seen, as a triangle soup (binary STL) needs to become a mesh. A hash grid
-/// of cells at least `tolerance` wide keeps this O(n): only the 27 cells around a point can hold a
-/// partner.
-WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points, double tolerance);
+/// Merges points closer than `relative_tolerance` times the diagonal of their bounding box (>= 0;
+/// 0 merges exact duplicates only) into the first such point seen, as a triangle soup (STL) needs
+/// to become a mesh. A hash grid of cells at least the tolerance wide keeps this O(n): only the
+/// 27 cells around a point can hold a partner.
+WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
+                             double relative_tolerance);
 
 }  // namespace softbench

@@ -29,11 +29,8 @@ void write_msh(const std::filesystem::path& path, const MeshData& mesh) {
     out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n";
     out << "$Nodes\n" << mesh.vertices.cols() << '\n';
     for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v) {
-      out << v + 1;
-      for (Eigen::Index axis = 0; axis < 3; ++axis) {
-        out << ' ';
-        write_double(out, mesh.vertices(axis, v));
-      }
+      out << v + 1 << ' ';
+      write_xyz(out, mesh.vertices.col(v));
       out << '\n';
     }
     out << "$EndNodes\n";

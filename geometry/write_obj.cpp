@@ -11,11 +11,8 @@ void write_obj(const std::filesystem::path& path, const MeshData& mesh) {
     out << "# softbench: " << mesh.vertices.cols() << " vertices, " << mesh.triangles.cols()
         << " triangles\n";
     for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v) {
-      out << 'v';
-      for (Eigen::Index axis = 0; axis < 3; ++axis) {
-        out << ' ';
-        write_double(out, mesh.vertices(axis, v));
-      }
+      out << "v ";
+      write_xyz(out, mesh.vertices.col(v));
       out << '\n';
     }
     for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {

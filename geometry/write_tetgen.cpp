@@ -40,11 +40,8 @@ void write_tetgen(const std::filesystem::path& base, const MeshData& mesh) {
   write_file_atomically(tetgen_file(base, ".node"), [&mesh](std::ostream& out) {
     out << mesh.vertices.cols() << " 3 0 0\n";
     for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v) {
-      out << v;
-      for (Eigen::Index axis = 0; axis < 3; ++axis) {
-        out << ' ';
-        write_double(out, mesh.vertices(axis, v));
-      }
+      out << v << ' ';
+      write_xyz(out, mesh.vertices.col(v));
       out << '\n';
     }
   });

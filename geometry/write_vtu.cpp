@@ -37,16 +37,11 @@ std::string xml_escaped(std::string_view text) {
   return escaped;
 }
 
-// One column (point) per line.
-void write_points(std::ostream& out, const Eigen::Matrix3Xd& values) {
-  for (Eigen::Index v = 0; v < values.cols(); ++v) {
+// One vector (column) per line: point coordinates or a vertex field.
+void write_vectors(std::ostream& out, const Eigen::Matrix3Xd& vectors) {
+  for (Eigen::Index v = 0; v < vectors.cols(); ++v) {
     out << "          ";
-    for (Eigen::Index axis = 0; axis < 3; ++axis) {
-      if (axis > 0) {
-        out << ' ';
-      }
-      write_double(out, values(axis, v));
-    }
+    write_xyz(out, vectors.col(v));
     out << '\n';
   }
 }
@@ -97,14 +92,14 @@ void write_vtu(const std::filesystem::path& path,
       out << "      <PointData>\n";
       for (const VertexField& field : fields) {
         open_array(out, "Float64", field.name, 3);
-        write_points(out, *field.values);
+        write_vectors(out, *field.values);
         out << kCloseArray;
       }
       out << "      </PointData>\n";
     }
     out << "      <Points>\n";
     open_array(out, "Float64", "", 3);
-    write_points(out, mesh.vertices);
+    write_vectors(out, mesh.vertices);
     out << kCloseArray << "      </Points>\n";
 
     // Tets first, then triangles; offsets are where each cell's connectivity ends.

@@ -1,18 +1,22 @@
 // SPDX-License-Identifier: MIT
 // softbench: the command line. Bad input exits 2 with one line naming the file and the problem;
 // any other failure exits 1.
+#include "geometry/input_error.h"
+#include "harness/mesh_commands.h"
+#include "harness/run_commands.h"
+
 #include <CLI/CLI.hpp>
+
 #include <exception>
 #include <iostream>
 
-#include "geometry/input_error.h"
-#include "harness/mesh_commands.h"
-
 int main(int argc, char** argv) {
-  CLI::App app{"softbench: a soft-body physics testbed (mass-spring, corotational FEM, shape "
-               "matching, Bullet) on a liver scene"};
+  CLI::App app{
+      "softbench: a soft-body physics testbed (mass-spring, corotational FEM, shape "
+      "matching, Bullet) on a liver scene"};
   app.require_subcommand(1);
   softbench::harness::add_mesh_commands(app);
+  softbench::harness::add_run_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

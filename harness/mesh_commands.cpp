@@ -1,14 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "harness/mesh_commands.h"
 
+#include "geometry/input_error.h"
+#include "geometry/mesh_io.h"
+#include "harness/mesh_info.h"
+
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
-
-#include "geometry/input_error.h"
-#include "geometry/mesh_io.h"
-#include "harness/mesh_info.h"
 
 #if SOFTBENCH_WITH_MESHGEN
 #include "harness/mesh_generation_commands.h"
@@ -42,8 +42,9 @@ void add_mesh_commands(CLI::App& app) {
 
   auto info_arguments = std::make_shared<InfoArguments>();
   CLI::App* info = mesh->add_subcommand(
-      "info", "Counts, bounding box, volume, quality and problems of a mesh file (.obj .msh "
-              ".node/.ele .stl .vtk .vtu)");
+      "info",
+      "Counts, bounding box, volume, quality and problems of a mesh file (.obj .msh "
+      ".node/.ele .stl .vtk .vtu)");
   info->add_option("file", info_arguments->file, "mesh file")->required();
   info->add_flag("--json", info_arguments->json, "one JSON object instead of text");
   info->callback([info_arguments] { run_info(*info_arguments); });

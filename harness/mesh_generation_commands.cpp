@@ -1,19 +1,20 @@
 // SPDX-License-Identifier: MIT
 #include "harness/mesh_generation_commands.h"
 
-#include <nlohmann/json.hpp>
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <memory>
-#include <string>
-
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_validation.h"
 #include "harness/mesh_info.h"
 #include "meshgen/instrument_mesh.h"
 #include "meshgen/liver_pipeline.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
 
 namespace softbench::harness {
 namespace {
@@ -25,8 +26,8 @@ MeshInfo checked(const MeshData& volume) {
   static_cast<void>(make_tet_mesh(volume));  // throws InputError naming the problem
   MeshInfo info = inspect_mesh(volume);
   if (!info.usable() || !info.surface.closed_manifold()) {
-    throw std::runtime_error(volume.source + ": generated mesh failed validation:\n" +
-                             to_text(info));
+    throw std::runtime_error(volume.source + ": generated mesh failed validation:\n"
+                             + to_text(info));
   }
   return info;
 }
@@ -34,8 +35,7 @@ MeshInfo checked(const MeshData& volume) {
 void print_summary(const fs::path& file, const MeshInfo& info) {
   std::cout << file.string() << ": " << info.vertices << " vertices, " << info.triangles
             << " boundary triangles, " << info.tetrahedra << " tets, " << info.faces << " faces, "
-            << info.edges << " edges, min dihedral " << info.quality->min_dihedral_deg
-            << " deg\n";
+            << info.edges << " edges, min dihedral " << info.quality->min_dihedral_deg << " deg\n";
 }
 
 void write_json(const fs::path& path, const nlohmann::json& json) {

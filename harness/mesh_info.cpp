@@ -39,8 +39,8 @@ void inspect_tets(const MeshData& data, MeshInfo& info) {
     info.surface = surface_topology(boundary, info.vertices);
     info.surface_area = surface_area(TriMesh{data.vertices, boundary});
     if (!info.surface.closed_manifold()) {
-      info.problems.push_back({MeshProblem::Severity::kError,
-                               "tet boundary is not a closed manifold surface"});
+      info.problems.push_back(
+          {MeshProblem::Severity::kError, "tet boundary is not a closed manifold surface"});
     }
   }
 }
@@ -64,7 +64,9 @@ void inspect_triangles(const MeshData& data, MeshInfo& info) {
   }
 }
 
-nlohmann::json vector_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::json vector_json(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 }  // namespace
 
@@ -161,8 +163,9 @@ std::string to_text(const MeshInfo& info) {
     out << "surface area: " << *info.surface_area << "\n";
   }
   if (info.triangles > 0) {
-    out << "surface: " << (info.surface.closed_manifold() ? "closed manifold" : "open or non-manifold")
-        << ", " << (info.surface.oriented() ? "consistently oriented" : "misoriented") << ", "
+    out << "surface: "
+        << (info.surface.closed_manifold() ? "closed manifold" : "open or non-manifold") << ", "
+        << (info.surface.oriented() ? "consistently oriented" : "misoriented") << ", "
         << info.surface.components << " component(s), Euler characteristic "
         << info.surface.euler_characteristic << "\n";
   }

@@ -1,15 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <nlohmann/json.hpp>
-#include <optional>
-#include <string>
-#include <vector>
-
 #include "geometry/mesh_data.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/mesh_validation.h"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace softbench::harness {
 
@@ -19,16 +20,16 @@ namespace softbench::harness {
 struct MeshInfo {
   std::string source;
   int vertices = 0;
-  int triangles = 0;           ///< the file's triangles, or the tet boundary's if it has none
+  int triangles = 0;  ///< the file's triangles, or the tet boundary's if it has none
   bool triangles_from_boundary = false;
   int tetrahedra = 0;
-  int faces = 0;               ///< distinct triangular faces of the tets (0 without tets)
-  int edges = 0;               ///< distinct edges of the tets, else of the triangles
+  int faces = 0;  ///< distinct triangular faces of the tets (0 without tets)
+  int edges = 0;  ///< distinct edges of the tets, else of the triangles
   Eigen::Matrix<double, 3, 2> bbox = Eigen::Matrix<double, 3, 2>::Zero();
-  std::optional<double> volume;        ///< of the tets, or enclosed by a closed surface
+  std::optional<double> volume;  ///< of the tets, or enclosed by a closed surface
   std::optional<double> surface_area;
-  SurfaceTopology surface;             ///< of `triangles`
-  std::optional<TetQuality> quality;   ///< with tets only
+  SurfaceTopology surface;            ///< of `triangles`
+  std::optional<TetQuality> quality;  ///< with tets only
   std::vector<MeshProblem> problems;
 
   /// No error-severity problem: the mesh can be simulated (tets) or collided with (surface).

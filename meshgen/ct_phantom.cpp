@@ -18,9 +18,9 @@ struct Lobe {
 // x: patient left (-) to right (+), y: posterior (-) to anterior (+), z: inferior to superior.
 // The right lobe dominates; the left lobe is thinner and tapers towards the left.
 const std::array<Lobe, 3> kLobes = {{
-    {{0.035, 0.000, 0.000}, {0.066, 0.070, 0.050}},   // right lobe
-    {{-0.050, 0.014, 0.012}, {0.052, 0.045, 0.026}},  // left lobe
-    {{-0.004, -0.028, 0.006}, {0.032, 0.028, 0.030}}, // caudate bulge, posterior
+    {{0.035, 0.000, 0.000}, {0.066, 0.070, 0.050}},    // right lobe
+    {{-0.050, 0.014, 0.012}, {0.052, 0.045, 0.026}},   // left lobe
+    {{-0.004, -0.028, 0.006}, {0.032, 0.028, 0.030}},  // caudate bulge, posterior
 }};
 
 // Softness of the union (m): larger blends the lobes into each other more gradually.
@@ -91,11 +91,9 @@ ScalarGrid make_liver_phantom(const PhantomOptions& options) {
       for (int i = 0; i < grid.size.x(); ++i) {
         // Partial volume: the fraction of a voxel inside the organ ramps over one voxel width.
         const double distance = liver_phantom_implicit(grid.position(i, j, k));
-        const double inside_fraction =
-            std::clamp(0.5 - distance / options.voxel_size, 0.0, 1.0);
-        grid.at(i, j, k) = static_cast<float>(options.tissue_intensity +
-                                              contrast * inside_fraction +
-                                              options.noise_sigma * noise.next());
+        const double inside_fraction = std::clamp(0.5 - distance / options.voxel_size, 0.0, 1.0);
+        grid.at(i, j, k) = static_cast<float>(options.tissue_intensity + contrast * inside_fraction
+                                              + options.noise_sigma * noise.next());
       }
     }
   }

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <cstdint>
-
 #include "geometry/marching_cubes.h"
+
+#include <cstdint>
 
 namespace softbench::meshgen {
 

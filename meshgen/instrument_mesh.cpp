@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "meshgen/instrument_mesh.h"
 
+#include "geometry/input_error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include "geometry/input_error.h"
 
 namespace softbench::meshgen {
 namespace {
@@ -54,10 +54,9 @@ std::vector<ProfilePoint> probe_profile(const InstrumentOptions& options) {
 }  // namespace
 
 TriMesh make_probe_instrument(const InstrumentOptions& options) {
-  if (options.segments < 3 || options.rings < 6 || options.shaft_radius <= 0.0 ||
-      options.length <= 12.0 * options.shaft_radius) {
-    throw InputError(
-        "instrument: need segments >= 3, rings >= 6 and a length over 12 shaft radii");
+  if (options.segments < 3 || options.rings < 6 || options.shaft_radius <= 0.0
+      || options.length <= 12.0 * options.shaft_radius) {
+    throw InputError("instrument: need segments >= 3, rings >= 6 and a length over 12 shaft radii");
   }
   const std::vector<ProfilePoint> profile = probe_profile(options);
   const int rings = static_cast<int>(profile.size());
@@ -75,8 +74,8 @@ TriMesh make_probe_instrument(const InstrumentOptions& options) {
     for (int segment = 0; segment < segments; ++segment) {
       const double angle = 2.0 * std::numbers::pi * segment / segments;
       const ProfilePoint& p = profile[static_cast<std::size_t>(ring)];
-      mesh.vertices.col(ring_vertex(ring, segment))
-          << p.radius * std::cos(angle), p.radius * std::sin(angle), p.height;
+      mesh.vertices.col(ring_vertex(ring, segment)) << p.radius * std::cos(angle),
+          p.radius * std::sin(angle), p.height;
     }
   }
 

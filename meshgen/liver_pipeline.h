@@ -1,20 +1,20 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include "geometry/mesh_data.h"
 #include "geometry/tri_mesh.h"
 #include "meshgen/ct_phantom.h"
 #include "meshgen/tetrahedralize.h"
 
+#include <string>
+#include <vector>
+
 namespace softbench::meshgen {
 
 /// One resolution of the liver: how far to simplify the surface and how to fill it with tets.
 struct LiverResolution {
-  std::string name;             ///< file stem, e.g. "liver" or "liver_x4"
-  int surface_vertices = 800;   ///< target after simplification
+  std::string name;            ///< file stem, e.g. "liver" or "liver_x4"
+  int surface_vertices = 800;  ///< target after simplification
   TetrahedralizeOptions tets;
 };
 
@@ -23,8 +23,8 @@ struct LiverResolution {
 /// TetGen. Deterministic for a given seed.
 struct LiverPipelineOptions {
   PhantomOptions phantom;
-  float threshold = 0.675f;      ///< halfway between tissue and organ intensity
-  double label_blur_sigma = 1.0; ///< voxels ("smooth label")
+  float threshold = 0.675f;       ///< halfway between tissue and organ intensity
+  double label_blur_sigma = 1.0;  ///< voxels ("smooth label")
   int taubin_iterations = 20;
   std::vector<LiverResolution> resolutions;  ///< empty: default_liver_resolutions()
 };
@@ -44,13 +44,13 @@ struct LiverPipelineStats {
 
 struct LiverMeshes {
   std::string name;
-  TriMesh surface;   ///< the simplified surface TetGen was given
-  MeshData volume;   ///< vertices, positive tets and boundary triangles
+  TriMesh surface;  ///< the simplified surface TetGen was given
+  MeshData volume;  ///< vertices, positive tets and boundary triangles
 };
 
 struct LiverPipelineResult {
   LiverPipelineStats stats;
-  TriMesh smoothed_surface;  ///< after marching cubes and Taubin, before simplification
+  TriMesh smoothed_surface;         ///< after marching cubes and Taubin, before simplification
   std::vector<LiverMeshes> meshes;  ///< one per resolution, in order
 };
 

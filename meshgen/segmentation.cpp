@@ -75,9 +75,9 @@ int remove_islands(ScalarGrid& labels) {
   if (components.sizes.empty()) {
     return 0;
   }
-  const int largest = static_cast<int>(
-      std::max_element(components.sizes.begin(), components.sizes.end()) -
-      components.sizes.begin());
+  const int largest =
+      static_cast<int>(std::max_element(components.sizes.begin(), components.sizes.end())
+                       - components.sizes.begin());
   int removed = 0;
   for (std::size_t v = 0; v < labels.values.size(); ++v) {
     if (components.id[v] >= 0 && components.id[v] != largest) {
@@ -126,8 +126,8 @@ ScalarGrid gaussian_blur(const ScalarGrid& grid, double sigma_voxels) {
           for (int offset = -radius; offset <= radius; ++offset) {
             Eigen::Vector3i sample = voxel;
             sample(axis) = std::clamp(voxel(axis) + offset, 0, length - 1);
-            sum += kernel[static_cast<std::size_t>(offset + radius)] *
-                   source.at(sample.x(), sample.y(), sample.z());
+            sum += kernel[static_cast<std::size_t>(offset + radius)]
+                   * source.at(sample.x(), sample.y(), sample.z());
           }
           result.at(i, j, k) = static_cast<float>(sum);
         }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "meshgen/surface_simplification.h"
 
+#include "geometry/input_error.h"
+
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Simple_cartesian.h>
@@ -8,10 +10,9 @@
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Bounded_normal_change_filter.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
+
 #include <cmath>
 #include <vector>
-
-#include "geometry/input_error.h"
 
 namespace softbench::meshgen {
 namespace {
@@ -35,8 +36,8 @@ SurfaceMesh to_cgal(const TriMesh& surface) {
                                     handles[static_cast<std::size_t>(tri(1))],
                                     handles[static_cast<std::size_t>(tri(2))]);
     if (face == SurfaceMesh::null_face()) {
-      throw InputError("simplify_surface: triangle " + std::to_string(t) +
-                       " cannot be added: the surface is not an oriented manifold");
+      throw InputError("simplify_surface: triangle " + std::to_string(t)
+                       + " cannot be added: the surface is not an oriented manifold");
     }
   }
   return mesh;

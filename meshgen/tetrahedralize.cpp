@@ -1,14 +1,15 @@
 // SPDX-License-Identifier: MIT
 #include "meshgen/tetrahedralize.h"
 
+#include "geometry/input_error.h"
+#include "geometry/mesh_validation.h"
+
 #include <tetgen.h>
+
 #include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include "geometry/input_error.h"
-#include "geometry/mesh_validation.h"
 
 namespace softbench::meshgen {
 namespace {
@@ -75,7 +76,8 @@ MeshData read_output(const tetgenio& output) {
   mesh.vertices = Eigen::Map<const Eigen::Matrix3Xd>(output.pointlist, 3, output.numberofpoints);
   mesh.tetrahedra =
       Eigen::Map<const Eigen::Matrix4Xi>(output.tetrahedronlist, 4, output.numberoftetrahedra);
-  mesh.triangles = Eigen::Map<const Eigen::Matrix3Xi>(output.trifacelist, 3, output.numberoftrifaces);
+  mesh.triangles =
+      Eigen::Map<const Eigen::Matrix3Xi>(output.trifacelist, 3, output.numberoftrifaces);
   // TetGen's corner order has the opposite handedness to TetMesh's. Checking each tet rather than
   // swapping blindly keeps this right should a TetGen version change its convention.
   orient_tets_positively(mesh.vertices, mesh.tetrahedra);
@@ -86,9 +88,9 @@ MeshData read_output(const tetgenio& output) {
 
 MeshData tetrahedralize(const TriMesh& surface, const TetrahedralizeOptions& options) {
   if (options.radius_edge_ratio < 1.1) {
-    throw InputError("tetrahedralize: radius-edge ratio " +
-                     std::to_string(options.radius_edge_ratio) +
-                     " is below 1.1, which TetGen cannot guarantee to terminate");
+    throw InputError("tetrahedralize: radius-edge ratio "
+                     + std::to_string(options.radius_edge_ratio)
+                     + " is below 1.1, which TetGen cannot guarantee to terminate");
   }
   if (options.max_volume < 0.0) {
     throw InputError("tetrahedralize: max volume must be >= 0");

@@ -2,10 +2,11 @@
 #include "tests/test_meshes.h"
 
 #include <Eigen/Geometry>
+#include <unistd.h>
+
 #include <atomic>
 #include <fstream>
 #include <stdexcept>
-#include <unistd.h>
 #include <vector>
 
 namespace softbench::test {
@@ -116,8 +117,8 @@ MeshData cube_surface() {
 
 TempDir::TempDir() {
   static std::atomic<int> counter{0};
-  path_ = std::filesystem::temp_directory_path() /
-          ("softbench_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+  path_ = std::filesystem::temp_directory_path()
+          / ("softbench_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
   std::filesystem::remove_all(path_);
   std::filesystem::create_directories(path_);
 }

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "geometry/mesh_data.h"
+
 #include <filesystem>
 #include <string>
-
-#include "geometry/mesh_data.h"
 
 // Small meshes made in code, shared by every test executable. Tests never read ../shared.
 namespace softbench::test {

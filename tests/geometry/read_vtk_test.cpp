@@ -221,9 +221,10 @@ TEST(ReadVtk, RejectsTruncatedAsciiPoints) {
   TempDir dir;
   const auto path =
       dir.write("cut.vtk", std::string(kPolydataHeader) + "POINTS 3 float\n0 0 0 1 0");
-  EXPECT_THAT([&] { read_vtk(path); },
-              ThrowsInputError("cut.vtk: line 6: expected 9 values of POINTS (found 5), found end "
-                               "of file"));
+  EXPECT_THAT(
+      [&] { read_vtk(path); },
+      ThrowsInputError("cut.vtk: line 6: expected 9 values of POINTS, found 5 before end of "
+                       "file"));
 }
 
 TEST(ReadVtk, RejectsUnsupportedDatasets) {

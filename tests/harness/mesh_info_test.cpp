@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
-#include <limits>
-
 #include "harness/mesh_info.h"
+
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <limits>
 
 namespace softbench::harness {
 namespace {
@@ -18,8 +20,8 @@ TEST(MeshInfo, CountsVerticesTetsFacesAndEdgesOfACube) {
   EXPECT_EQ(info.tetrahedra, 6);
   EXPECT_EQ(info.triangles, 12);  // the boundary: two per cube face
   EXPECT_TRUE(info.triangles_from_boundary);
-  EXPECT_EQ(info.faces, 18);      // 12 boundary + 6 interior
-  EXPECT_EQ(info.edges, 19);      // 12 cube edges + 6 face diagonals + the main diagonal
+  EXPECT_EQ(info.faces, 18);  // 12 boundary + 6 interior
+  EXPECT_EQ(info.edges, 19);  // 12 cube edges + 6 face diagonals + the main diagonal
   ASSERT_TRUE(info.volume.has_value());
   EXPECT_NEAR(*info.volume, 1.0, test::kRoundoff);
   EXPECT_TRUE(info.surface.closed_manifold());

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include <gtest/gtest.h>
+#include "meshgen/ct_phantom.h"
 
 #include "geometry/mesh_measures.h"
-#include "meshgen/ct_phantom.h"
 #include "meshgen/segmentation.h"
+
+#include <gtest/gtest.h>
 
 namespace softbench::meshgen {
 namespace {

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include <gtest/gtest.h>
+#include "meshgen/instrument_mesh.h"
 
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
-#include "meshgen/instrument_mesh.h"
+
+#include <gtest/gtest.h>
 
 namespace softbench::meshgen {
 namespace {

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include <gtest/gtest.h>
+#include "meshgen/liver_pipeline.h"
 
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/mesh_validation.h"
-#include "meshgen/liver_pipeline.h"
+
+#include <gtest/gtest.h>
 
 namespace softbench::meshgen {
 namespace {
@@ -29,8 +30,8 @@ TEST(LiverPipeline, MakesAThesisSizedValidLiver) {
   // Segmentation had work to do: the noise made specks outside the organ.
   EXPECT_GT(result.stats.islands_removed, 0);
   // The smoothed marching-cubes surface is one closed sphere-like shell.
-  const SurfaceTopology smoothed = surface_topology(result.smoothed_surface.triangles,
-                                                    result.smoothed_surface.num_vertices());
+  const SurfaceTopology smoothed =
+      surface_topology(result.smoothed_surface.triangles, result.smoothed_surface.num_vertices());
   EXPECT_TRUE(smoothed.closed_manifold());
   EXPECT_EQ(smoothed.euler_characteristic, 2);
 

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
+#include "meshgen/tetrahedralize.h"
 
 #include "geometry/input_error.h"
 #include "geometry/marching_cubes.h"
@@ -8,9 +7,11 @@
 #include "geometry/mesh_topology.h"
 #include "geometry/mesh_validation.h"
 #include "meshgen/surface_simplification.h"
-#include "meshgen/tetrahedralize.h"
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
 
 namespace softbench::meshgen {
 namespace {
@@ -55,7 +56,8 @@ TEST(Tetrahedralize, FillsACubeWithPositiveTetsOfExactlyItsVolumeUnderTheVolumeB
               options.max_volume * (1 + test::kRoundoff));
   }
   EXPECT_GE(mesh.num_tets(), 100);
-  const SurfaceTopology boundary = surface_topology(boundary_triangles(mesh.tets()), mesh.num_vertices());
+  const SurfaceTopology boundary =
+      surface_topology(boundary_triangles(mesh.tets()), mesh.num_vertices());
   EXPECT_TRUE(boundary.closed_manifold());
 }
 
@@ -81,7 +83,8 @@ TEST(SimplifySurface, ReachesTheTargetAndKeepsAClosedSurfaceAndItsVolume) {
   const TriMesh simplified = simplify_surface(sphere, 400);
   // The remesher reaches the target count within a few percent.
   EXPECT_NEAR(simplified.num_vertices(), 400, 20);
-  const SurfaceTopology topology = surface_topology(simplified.triangles, simplified.num_vertices());
+  const SurfaceTopology topology =
+      surface_topology(simplified.triangles, simplified.num_vertices());
   EXPECT_TRUE(topology.closed_manifold());
   EXPECT_TRUE(topology.oriented());
   EXPECT_EQ(topology.euler_characteristic, 2);

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-#include <gmock/gmock.h>
-#include <gtest/gtest.h>
-#include <limits>
+#include "models/material.h"
 
 #include "geometry/input_error.h"
-#include "models/material.h"
 #include "tests/test_tolerances.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <limits>
 
 namespace softbench {
 namespace {
@@ -32,8 +34,9 @@ TEST(Material, LameParametersReproduceYoungsModulusAndPoissonsRatio) {
 }
 
 TEST(Material, RejectsPoissonRatioAtOneHalf) {
-  EXPECT_THAT(rejection_message({3000.0, 0.5, 1000.0}),
-              HasSubstr("scene.json: /material/poisson_ratio: expected a number in [0, 0.5), got 0.5"));
+  EXPECT_THAT(
+      rejection_message({3000.0, 0.5, 1000.0}),
+      HasSubstr("scene.json: /material/poisson_ratio: expected a number in [0, 0.5), got 0.5"));
 }
 
 TEST(Material, RejectsNegativeStiffnessDensityAndNaN) {

@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The meshes the project ships (made by `softbench mesh liver`) hold what the foundation issue
 // promises: thesis-sized, closed, valid, and refinements that really are ~4x and ~16x.
-#include <gtest/gtest.h>
+#include "scenes/shipped_data.h"
 
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
 #include "geometry/mesh_validation.h"
-#include "scenes/shipped_data.h"
+
+#include <gtest/gtest.h>
 
 namespace softbench::scenes {
 namespace {

@@ -1,0 +1,144 @@
+// SPDX-License-Identifier: MIT
+// The cost of one model step on the shipped livers, in a scene-like setting: the liver material
+// (E 3000 Pa, nu 0.3, 1060 kg/m^3), gravity, and the vertices in the lowest 10 % of the x extent
+// pinned. Every registered model runs with its defaults (BM_Step/<model>/<mesh>); the
+// mass-spring model also runs per integrator and solver (BM_Step/mass_spring:<variant>/<mesh>).
+// Time is wall-clock (the models may use OpenMP threads). On a machine with few cores, run with
+// OMP_WAIT_POLICY=passive: CHOLMOD's OpenMP threads otherwise spin-wait on the cores its
+// OpenBLAS threads need (liver.msh's factorisation: 30 ms instead of 16 ms on 2 cores).
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_measures.h"
+#include "geometry/mesh_validation.h"
+#include "models/model_registry.h"
+#include "scenes/shipped_data.h"
+
+#include <benchmark/benchmark.h>
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace softbench {
+namespace {
+
+const char* const kLivers[] = {"liver.msh", "liver_x4.msh", "liver_x16.msh"};
+
+/// The scenes' step.
+constexpr double kSceneDt = 1.0 / 60.0;
+/// Symplectic Euler with the thesis's springs (k 180 N/m, c 5 N s/m) is unstable at 1/60 s, and
+/// still at 1e-4 s: the dashpots on the liver's lightest vertices (5 mg on liver_x16) need
+/// dt c_total / m < 2. 1e-7 s is stable on all three livers; the cost of a step does not depend
+/// on dt, but the name says which dt ran.
+constexpr double kSymplecticDt = 1e-7;
+constexpr int kWarmUpSteps = 10;
+constexpr int kStepsPerBatch = 4;
+
+struct Variant {
+  std::string label;  ///< the benchmark name's model part
+  std::string model;  ///< registry key
+  nlohmann::json params;
+  double dt = kSceneDt;
+};
+
+std::vector<Variant> variants() {
+  std::vector<Variant> result;
+  for (const std::string& name : builtin_models().names()) {
+    result.push_back({name, name, nullptr, kSceneDt});
+  }
+  result.push_back({"mass_spring:implicit_euler+cg",
+                    "mass_spring",
+                    {{"integrator", "implicit_euler"}, {"solver", "cg"}},
+                    kSceneDt});
+  result.push_back({"mass_spring:implicit_euler+cholmod",
+                    "mass_spring",
+                    {{"integrator", "implicit_euler"}, {"solver", "cholmod"}},
+                    kSceneDt});
+  result.push_back({"mass_spring:symplectic_euler@dt=1e-7",
+                    "mass_spring",
+                    {{"integrator", "symplectic_euler"}},
+                    kSymplecticDt});
+  return result;
+}
+
+/// Each liver read and validated once per process, on first use (not at registration, so
+/// running one benchmark does not load all three).
+const TetMesh& liver(const std::string& name) {
+  static std::map<std::string, TetMesh> loaded;
+  auto found = loaded.find(name);
+  if (found == loaded.end()) {
+    found = loaded.emplace(name, make_tet_mesh(read_mesh(scenes::shipped_data_file(name)))).first;
+  }
+  return found->second;
+}
+
+std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh) {
+  const Eigen::Matrix<double, 3, 2> bounds = bounding_box(mesh.rest_positions());
+  const double limit = bounds(0, 0) + 0.1 * (bounds(0, 1) - bounds(0, 0));
+  std::vector<PositionConstraint> pins;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.rest_positions()(0, v) < limit) {
+      pins.push_back({v, mesh.rest_positions().col(v), kExact});
+    }
+  }
+  return pins;
+}
+
+void step_benchmark(benchmark::State& state, const Variant& variant, const std::string& mesh_name) {
+  const TetMesh& mesh = liver(mesh_name);
+  const Material material{3000.0, 0.3, 1060.0};
+  const std::unique_ptr<SoftBody> body =
+      builtin_models()
+          .at(variant.model)
+          .create(mesh, material, variant.params, ParamSource{"step_bench", "/" + variant.label});
+  const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
+  StepInput input;
+  input.constraints = pins;
+  for (int step = 0; step < kWarmUpSteps; ++step) {
+    body->step(variant.dt, input);
+  }
+
+  double iterations = 0.0;
+  double factorizations = 0.0;
+  double residuals = 0.0;
+  bool finite = true;
+  while (state.KeepRunningBatch(kStepsPerBatch)) {
+    for (int step = 0; step < kStepsPerBatch; ++step) {
+      const StepStats stats = body->step(variant.dt, input);
+      iterations += stats.iterations;
+      factorizations += stats.factorizations;
+      residuals += stats.residual;
+      finite = finite && stats.finite;
+    }
+  }
+  if (!finite) {
+    state.SkipWithError("the model blew up: the timings are of NaN arithmetic");
+    return;
+  }
+  const auto steps = static_cast<double>(state.iterations());
+  state.counters["steps_per_s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
+  state.counters["mean_iterations"] = iterations / steps;
+  state.counters["mean_factorizations"] = factorizations / steps;
+  state.counters["mean_residual"] = residuals / steps;
+  state.counters["dt_s"] = variant.dt;
+  state.counters["vertices"] = mesh.num_vertices();
+}
+
+void register_benchmarks() {
+  for (const Variant& variant : variants()) {
+    for (const char* mesh_name : kLivers) {
+      benchmark::RegisterBenchmark(
+          ("BM_Step/" + variant.label + "/" + mesh_name).c_str(),
+          [variant, mesh = std::string(mesh_name)](benchmark::State& state) {
+            step_benchmark(state, variant, mesh);
+          })
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+  }
+}
+
+const bool kRegistered = (register_benchmarks(), true);
+
+}  // namespace
+}  // namespace softbench

@@ -1,0 +1,223 @@
+// SPDX-License-Identifier: MIT
+#include "harness/runner.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_measures.h"
+#include "geometry/mesh_validation.h"
+#include "models/model_registry.h"
+#include "scenes/scene_regions.h"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <span>
+
+namespace softbench::harness {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The scene's constraints for one step: the fixed region at rest, and the grasped patch (while
+// held) at where it was grasped plus the path's offset at the end of the step.
+class ConstraintSchedule {
+ public:
+  ConstraintSchedule(const scenes::Scene& scene, const TetMesh& mesh) : scene_(scene) {
+    for (int vertex : scenes::fixed_vertices(scene, mesh)) {
+      fixed_.push_back({vertex, mesh.rest_positions().col(vertex)});
+    }
+    if (scene.grasp) {
+      grasped_ = scenes::grasped_vertices(scene, mesh);
+    }
+    constraints_.reserve(fixed_.size() + grasped_.size());
+  }
+
+  /// Call before each step; `positions` are the body's at the step's start.
+  std::span<const PositionConstraint> at(double step_start,
+                                         double dt,
+                                         const Eigen::Matrix3Xd& positions) {
+    constraints_.assign(fixed_.begin(), fixed_.end());
+    if (!scene_.grasp) {
+      return constraints_;
+    }
+    const scenes::Grasp& grasp = *scene_.grasp;
+    if (step_start + 0.5 * dt >= grasp.start && step_start + 0.5 * dt < grasp.release) {
+      if (grasp_origin_.cols() == 0) {  // the grasp closes: remember where the patch is
+        grasp_origin_.resize(3, static_cast<Eigen::Index>(grasped_.size()));
+        for (std::size_t i = 0; i < grasped_.size(); ++i) {
+          grasp_origin_.col(static_cast<Eigen::Index>(i)) = positions.col(grasped_[i]);
+        }
+      }
+      const Eigen::Vector3d offset = scenes::grasp_offset(grasp, step_start + dt);
+      for (std::size_t i = 0; i < grasped_.size(); ++i) {
+        constraints_.push_back(
+            {grasped_[i], grasp_origin_.col(static_cast<Eigen::Index>(i)) + offset});
+      }
+    }
+    return constraints_;
+  }
+
+  void reset() { grasp_origin_.resize(3, 0); }
+
+ private:
+  const scenes::Scene& scene_;
+  std::vector<PositionConstraint> fixed_;
+  std::vector<int> grasped_;
+  Eigen::Matrix3Xd grasp_origin_;
+  std::vector<PositionConstraint> constraints_;
+};
+
+void write_frame(const RunOptions& options,
+                 const std::string& model,
+                 int step,
+                 const TetMesh& mesh,
+                 const SoftBody& body) {
+  const std::filesystem::path dir = options.frames_dir / model;
+  std::filesystem::create_directories(dir);
+  std::ostringstream name;
+  name << "frame_" << std::setw(5) << std::setfill('0') << step << ".vtu";
+  const Eigen::Matrix3Xd displacement = body.positions() - mesh.rest_positions();
+  const VertexField fields[] = {{"displacement", &displacement}, {"velocity", &body.velocities()}};
+  write_vtu(dir / name.str(), MeshData{body.positions(), {}, mesh.tets(), model}, fields);
+}
+
+ModelRun run_model(const scenes::Scene& scene,
+                   const TetMesh& mesh,
+                   const std::string& model_name,
+                   const RunOptions& options) {
+  const ModelInfo& info = builtin_models().at(model_name);
+  const auto block = scene.model_parameters.find(model_name);
+  const nlohmann::json params =
+      block == scene.model_parameters.end() ? nlohmann::json(nullptr) : block->second;
+  std::unique_ptr<SoftBody> body =
+      info.create(mesh, scene.material, params, {scene.source.string(), "/models/" + model_name});
+
+  ModelRun run;
+  run.model = model_name;
+  run.params = body->parameters();
+  run.vertices = mesh.num_vertices();
+  run.tets = mesh.num_tets();
+  run.steps_planned = scene.num_steps();
+  run.memory_bytes = body->memory_bytes();
+
+  const Eigen::Matrix<double, 3, 2> box = bounding_box(mesh.rest_positions());
+  const double diagonal = (box.col(1) - box.col(0)).norm();
+  const double rest_volume = mesh_volume(mesh);
+  const Eigen::VectorXd masses = lumped_masses(mesh, scene.material.density);
+  ConstraintSchedule schedule(scene, mesh);
+  RecoveryTracker recovery(scene.release_time(), diagonal);
+  Eigen::Matrix3Xd reference = mesh.rest_positions();
+  bool have_reference = scene.reference_time() <= 0.0;
+
+  std::vector<double> step_ms;
+  step_ms.reserve(static_cast<std::size_t>(run.steps_planned));
+  double total_iterations = 0.0;
+  for (int step = 0; step < run.steps_planned; ++step) {
+    const double start = step * scene.dt;
+    if (!have_reference && start + 0.5 * scene.dt >= scene.reference_time()) {
+      reference = body->positions();
+      have_reference = true;
+    }
+    StepInput input;
+    input.gravity =
+        start < scene.gravity.off_at ? scene.gravity.acceleration : Eigen::Vector3d::Zero();
+    input.constraints = schedule.at(start, scene.dt, body->positions());
+
+    const Clock::time_point before = Clock::now();
+    const StepStats stats = body->step(scene.dt, input);
+    const Clock::time_point after = Clock::now();
+    if (step >= options.warmup_steps) {
+      step_ms.push_back(std::chrono::duration<double, std::milli>(after - before).count());
+    }
+    run.steps_run = step + 1;
+    total_iterations += stats.iterations;
+    run.factorizations += stats.factorizations;
+    run.linear_solves += stats.linear_solves;
+    run.max_constraint_error = std::max(run.max_constraint_error, stats.max_constraint_error);
+
+    const Eigen::Matrix3Xd& x = body->positions();
+    const Eigen::Matrix3Xd& v = body->velocities();
+    const bool finite = stats.finite && x.allFinite() && v.allFinite();
+    const double speed = finite ? max_speed(v) : INFINITY;
+    const double displacement =
+        finite ? (x - mesh.rest_positions()).colwise().norm().maxCoeff() : INFINITY;
+    if (!finite || speed > scene.limits.max_speed
+        || displacement > scene.limits.max_displacement * diagonal) {
+      run.stable = false;
+      run.diverged_at_step = step;
+      run.divergence = !finite ? "NaN or Inf in the state"
+                       : speed > scene.limits.max_speed
+                           ? "speed " + std::to_string(speed) + " m/s over the limit"
+                           : "displacement over the limit";
+      break;
+    }
+    run.max_speed = std::max(run.max_speed, speed);
+    run.max_kinetic_energy = std::max(run.max_kinetic_energy, kinetic_energy(masses, v));
+    run.max_inverted_tets = std::max(run.max_inverted_tets, count_inverted_tets(mesh, x));
+    run.volume_change =
+        std::max(run.volume_change, std::abs(mesh_volume(mesh, x) - rest_volume) / rest_volume);
+    if (have_reference) {
+      recovery.observe(start + scene.dt, x, reference);
+    }
+    if (options.frames_every > 0 && step % options.frames_every == 0) {
+      write_frame(options, model_name, step, mesh, *body);
+    }
+    if (options.progress != nullptr && options.live_progress && step % 30 == 0) {
+      *options.progress << "\r" << model_name << ": step " << step + 1 << "/" << run.steps_planned
+                        << std::flush;
+    }
+  }
+  run.step_ms = percentiles(step_ms);
+  double total_ms = 0.0;
+  for (double ms : step_ms) {
+    total_ms += ms;
+  }
+  run.fps = total_ms > 0.0 ? 1000.0 * static_cast<double>(step_ms.size()) / total_ms : 0.0;
+  run.mean_iterations = run.steps_run > 0 ? total_iterations / run.steps_run : 0.0;
+  run.final_elastic_energy = body->elastic_energy();
+  run.final_reaction_sum = body->constraint_forces().rowwise().sum();
+  run.recovery_measured = run.stable && recovery.released();
+  run.recovery_residual = recovery.residual();
+  run.time_to_1pct = recovery.time_to_one_percent();
+  if (options.progress != nullptr) {
+    *options.progress << (options.live_progress ? "\r" : "") << model_name << ": " << run.steps_run
+                      << "/" << run.steps_planned << " steps, "
+                      << (run.stable ? "stable"
+                                     : "UNSTABLE at step " + std::to_string(*run.diverged_at_step))
+                      << ", median step " << run.step_ms.median << " ms (" << run.fps
+                      << " steps/s)\n";
+  }
+  return run;
+}
+
+}  // namespace
+
+std::vector<ModelRun> run_scene(const scenes::Scene& scene, const RunOptions& options) {
+  if (scene.instrument) {
+    throw InputError(scene.source.string() +
+                     ": /instrument: instrument contact needs the collision module, which is not "
+                     "built yet; remove the instrument block to run this scene");
+  }
+  const std::vector<std::string> names =
+      options.models.empty() ? builtin_models().names() : options.models;
+  for (const std::string& name : names) {
+    builtin_models().at(name);  // an unknown name fails before any model runs
+  }
+  for (const auto& [name, block] : scene.model_parameters) {
+    if (!builtin_models().contains(name)) {
+      try {
+        builtin_models().at(name);
+      } catch (const InputError& error) {
+        throw InputError(scene.source.string() + ": /models/" + name + ": " + error.what());
+      }
+    }
+  }
+  const TetMesh mesh = make_tet_mesh(read_mesh(scene.mesh));
+  std::vector<ModelRun> runs;
+  for (const std::string& name : names) {
+    runs.push_back(run_model(scene, mesh, name, options));
+  }
+  return runs;
+}
+
+}  // namespace softbench::harness

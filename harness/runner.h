@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "harness/metrics.h"
+#include "scenes/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace softbench::harness {
+
+struct RunOptions {
+  std::vector<std::string> models;   ///< empty: every registered model
+  int warmup_steps = 10;             ///< steps run but left out of the timing statistics
+  int frames_every = 0;              ///< write a .vtu frame every N steps (0: none)
+  std::filesystem::path frames_dir;  ///< where frames go (frames_dir/<model>/frame_NNNNN.vtu)
+  std::ostream* progress = nullptr;  ///< one line per model when it finishes
+  bool live_progress = false;        ///< also rewrite a step counter line (for a terminal)
+};
+
+/// What one model did on one scene: the metrics.json entry (DESIGN.md's schema).
+struct ModelRun {
+  std::string model;
+  nlohmann::json params;  ///< effective parameters, defaults filled in
+  int vertices = 0;
+  int tets = 0;
+  int steps_planned = 0;
+  int steps_run = 0;
+  Percentiles step_ms;  ///< over the timed steps (warm-up excluded)
+  double fps = 0.0;     ///< timed steps per second of step() time
+  bool stable = true;
+  std::optional<int> diverged_at_step;
+  std::string divergence;  ///< why it was stopped ("" when stable)
+  int max_inverted_tets = 0;
+  double volume_change = 0.0;         ///< largest |V(t) - V0| / V0
+  double max_speed = 0.0;             ///< m/s
+  double max_kinetic_energy = 0.0;    ///< J
+  double final_elastic_energy = 0.0;  ///< J (NaN for models without one)
+  bool recovery_measured = false;     ///< false when nothing was released or the run diverged
+  double recovery_residual = 0.0;     ///< RMS distance to the reference / bbox diagonal, at the end
+  std::optional<double> time_to_1pct;  ///< s after release
+  double mean_iterations = 0.0;
+  int factorizations = 0;
+  int linear_solves = 0;
+  double max_constraint_error = 0.0;                             ///< m
+  Eigen::Vector3d final_reaction_sum = Eigen::Vector3d::Zero();  ///< N, over all constraints
+  std::size_t memory_bytes = 0;
+};
+
+/// Runs `scene` through each requested model in turn, timing every step() with a steady clock
+/// and checking stability after each. A model that blows up is stopped and reported; the next
+/// one runs. Throws InputError for a bad scene, model name or model parameter block.
+std::vector<ModelRun> run_scene(const scenes::Scene& scene, const RunOptions& options);
+
+}  // namespace softbench::harness

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: MIT
+// The mass-spring model: construction (all precomputation) and state. The step is in
+// mass_spring_step.cpp, the parameter table in mass_spring_params.cpp.
+#include "models/mass_spring/mass_spring.h"
+
+#include "geometry/mesh_measures.h"
+#include "geometry/mesh_topology.h"
+#include "models/mass_spring/mass_spring_model.h"
+
+#include <array>
+#include <utility>
+
+namespace softbench {
+namespace mass_spring {
+namespace {
+
+template <class Matrix>
+std::size_t bytes_of(const Matrix& matrix) {
+  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
+}
+
+/// The spring joining vertices a and b, found among a's incident springs.
+int spring_between(int a,
+                   int b,
+                   const Eigen::Matrix2Xi& springs,
+                   const std::vector<int>& offsets,
+                   const std::vector<int>& incident) {
+  for (int k = offsets[static_cast<std::size_t>(a)]; k < offsets[static_cast<std::size_t>(a) + 1];
+       ++k) {
+    const int spring = incident[static_cast<std::size_t>(k)];
+    if (springs(0, spring) + springs(1, spring) - a == b) {
+      return spring;
+    }
+  }
+  return -1;  // unreachable: every tet edge is a spring
+}
+
+/// Van Gelder (1998): k_e = E * (sum of the volumes of the tets sharing e) / L_e^2, the spring
+/// stiffness whose stored energy under a uniform strain approximates the continuum's.
+Eigen::VectorXd volume_weighted_stiffness(const TetMesh& mesh,
+                                          double young_modulus,
+                                          const Eigen::Matrix2Xi& springs,
+                                          const Eigen::VectorXd& rest_lengths,
+                                          const std::vector<int>& offsets,
+                                          const std::vector<int>& incident) {
+  constexpr std::array<std::pair<int, int>, 6> kTetEdges{
+      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+  Eigen::VectorXd volume_around = Eigen::VectorXd::Zero(springs.cols());
+  const Eigen::Matrix3Xd& x = mesh.rest_positions();
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    const Eigen::Vector4i tet = mesh.tets().col(t);
+    const double volume =
+        signed_tet_volume(x.col(tet(0)), x.col(tet(1)), x.col(tet(2)), x.col(tet(3)));
+    for (const auto& [a, b] : kTetEdges) {
+      volume_around(spring_between(tet(a), tet(b), springs, offsets, incident)) += volume;
+    }
+  }
+  return young_modulus * volume_around.cwiseQuotient(rest_lengths.cwiseAbs2());
+}
+
+}  // namespace
+
+MassSpringModel::MassSpringModel(const TetMesh& mesh,
+                                 const Material& material,
+                                 const MassSpringParams& params)
+    : params_(params),
+      num_vertices_(mesh.num_vertices()),
+      springs_(unique_edges(mesh.tets())),
+      masses_(lumped_masses(mesh, material.density)),
+      rest_positions_(mesh.rest_positions()) {
+  const Eigen::Index num_springs = springs_.cols();
+  rest_lengths_.resize(num_springs);
+  for (Eigen::Index e = 0; e < num_springs; ++e) {
+    rest_lengths_(e) =
+        (rest_positions_.col(springs_(1, e)) - rest_positions_.col(springs_(0, e))).norm();
+  }
+
+  incident_offsets_.assign(static_cast<std::size_t>(num_vertices_) + 1, 0);
+  for (Eigen::Index e = 0; e < num_springs; ++e) {
+    ++incident_offsets_[static_cast<std::size_t>(springs_(0, e)) + 1];
+    ++incident_offsets_[static_cast<std::size_t>(springs_(1, e)) + 1];
+  }
+  for (std::size_t v = 0; v < static_cast<std::size_t>(num_vertices_); ++v) {
+    incident_offsets_[v + 1] += incident_offsets_[v];
+  }
+  incident_springs_.resize(static_cast<std::size_t>(incident_offsets_.back()));
+  std::vector<int> fill(incident_offsets_.begin(), incident_offsets_.end() - 1);
+  for (Eigen::Index e = 0; e < num_springs; ++e) {
+    for (int end = 0; end < 2; ++end) {
+      incident_springs_[static_cast<std::size_t>(
+          fill[static_cast<std::size_t>(springs_(end, e))]++)] = static_cast<int>(e);
+    }
+  }
+
+  if (params_.stiffness_from == MassSpringParams::StiffnessFrom::kYoungModulus) {
+    spring_stiffness_ =
+        volume_weighted_stiffness(mesh, material.young_modulus, springs_, rest_lengths_,
+                                  incident_offsets_, incident_springs_);
+  } else {
+    spring_stiffness_ = Eigen::VectorXd::Constant(num_springs, params_.stiffness);
+  }
+
+  spring_forces_.resize(3, num_springs);
+  constraint_index_.assign(static_cast<std::size_t>(num_vertices_), -1);
+  if (params_.integrator == MassSpringParams::Integrator::kImplicitEuler) {
+    spring_rhs_.resize(3, num_springs);
+    spring_blocks_.resize(9, num_springs);
+    vertex_blocks_.resize(9, num_vertices_);
+    rhs_before_elimination_.resize(3, num_vertices_);
+    pattern_ = std::make_unique<BlockPattern>(num_vertices_, springs_);
+    solver_ = make_system_solver(params_, pattern_->matrix());
+    rhs_.resize(3 * static_cast<Eigen::Index>(num_vertices_));
+  }
+  reset();
+}
+
+nlohmann::json MassSpringModel::parameters() const {
+  return param_table().to_json(params_);
+}
+
+void MassSpringModel::reset() {
+  positions_ = rest_positions_;
+  velocities_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  if (pattern_ != nullptr) {
+    velocity_change_ = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(num_vertices_));
+  }
+}
+
+double MassSpringModel::elastic_energy() const {
+  double energy = 0.0;
+  for (Eigen::Index e = 0; e < springs_.cols(); ++e) {
+    const double length = (positions_.col(springs_(1, e)) - positions_.col(springs_(0, e))).norm();
+    const double stretch = length - rest_lengths_(e);
+    energy += 0.5 * spring_stiffness_(e) * stretch * stretch;
+  }
+  return energy;
+}
+
+std::size_t MassSpringModel::memory_bytes() const {
+  std::size_t bytes =
+      bytes_of(springs_) + bytes_of(rest_lengths_) + bytes_of(spring_stiffness_) + bytes_of(masses_)
+      + bytes_of(rest_positions_) + bytes_of(positions_) + bytes_of(velocities_)
+      + bytes_of(constraint_forces_) + bytes_of(spring_forces_) + bytes_of(spring_rhs_)
+      + bytes_of(spring_blocks_) + bytes_of(vertex_blocks_) + bytes_of(rhs_before_elimination_)
+      + bytes_of(rhs_) + bytes_of(velocity_change_)
+      + (incident_offsets_.size() + incident_springs_.size() + constraint_index_.size())
+            * sizeof(int);
+  if (pattern_ != nullptr) {
+    bytes += pattern_->memory_bytes() + solver_->memory_bytes();
+  }
+  return bytes;
+}
+
+}  // namespace mass_spring
+
+std::unique_ptr<SoftBody> make_mass_spring(const TetMesh& mesh,
+                                           const Material& material,
+                                           const MassSpringParams& params) {
+  validate_material(material, "make_mass_spring: material");
+  mass_spring::validate(params, "make_mass_spring: MassSpringParams");
+  return std::make_unique<mass_spring::MassSpringModel>(mesh, material, params);
+}
+
+}  // namespace softbench

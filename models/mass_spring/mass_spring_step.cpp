@@ -1,0 +1,316 @@
+// SPDX-License-Identifier: MIT
+// One step of the mass-spring model: spring forces and their Jacobians, symplectic Euler, and
+// linearised backward Euler (Baraff & Witkin 1998) with exact constraints by elimination.
+#include "models/mass_spring/mass_spring_model.h"
+
+#include <algorithm>
+#include <cstddef>
+
+namespace softbench::mass_spring {
+namespace {
+
+/// Loops shorter than this run on one thread: starting a parallel region costs more than it saves.
+constexpr Eigen::Index kParallelThreshold = 4096;
+
+using ConstBlock = Eigen::Map<const Eigen::Matrix3d>;
+using Block = Eigen::Map<Eigen::Matrix3d>;
+
+bool is_exact(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness == kExact;
+}
+
+bool is_penalty(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness != kExact;
+}
+
+/// A spring's current length and unit direction from its first vertex to its second.
+struct SpringGeometry {
+  double length = 0.0;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< zero for a collapsed spring
+};
+
+SpringGeometry spring_geometry(const Eigen::Vector3d& first, const Eigen::Vector3d& second) {
+  const Eigen::Vector3d delta = second - first;
+  SpringGeometry geometry;
+  geometry.length = delta.norm();
+  // A collapsed spring has no direction: no force is better than a NaN.
+  if (geometry.length > 0.0) {
+    geometry.direction = delta / geometry.length;
+  }
+  return geometry;
+}
+
+/// Elastic k (l - L) d plus dashpot c ((v_j - v_i) . d) d, on the first vertex.
+Eigen::Vector3d spring_force(double stiffness,
+                             double rest_length,
+                             double damping,
+                             const SpringGeometry& geometry,
+                             const Eigen::Vector3d& relative_velocity) {
+  const double stretch_rate = relative_velocity.dot(geometry.direction);
+  return (stiffness * (geometry.length - rest_length) + damping * stretch_rate)
+         * geometry.direction;
+}
+
+}  // namespace
+
+void MassSpringModel::bind_constraints(std::span<const PositionConstraint> constraints) {
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const int vertex = constraints[k].vertex;
+    // An out-of-range vertex is ignored rather than thrown: step() never throws.
+    if (vertex >= 0 && vertex < num_vertices_) {
+      constraint_index_[static_cast<std::size_t>(vertex)] = static_cast<int>(k);
+    }
+  }
+}
+
+void MassSpringModel::unbind_constraints(std::span<const PositionConstraint> constraints) {
+  for (const PositionConstraint& constraint : constraints) {
+    if (constraint.vertex >= 0 && constraint.vertex < num_vertices_) {
+      constraint_index_[static_cast<std::size_t>(constraint.vertex)] = -1;
+    }
+  }
+}
+
+const PositionConstraint* MassSpringModel::constraint_of(
+    int vertex, std::span<const PositionConstraint> constraints) const {
+  const int index = constraint_index_[static_cast<std::size_t>(vertex)];
+  return index < 0 ? nullptr : &constraints[static_cast<std::size_t>(index)];
+}
+
+StepStats MassSpringModel::step(double dt, const StepInput& input) {
+  bind_constraints(input.constraints);
+  const StepStats stats = params_.integrator == MassSpringParams::Integrator::kSymplecticEuler
+                              ? step_symplectic(dt, input)
+                              : step_implicit(dt, input);
+  unbind_constraints(input.constraints);
+  return stats;
+}
+
+void MassSpringModel::compute_spring_forces() {
+  const Eigen::Index num_springs = springs_.cols();
+#pragma omp parallel for schedule(static) if (num_springs > kParallelThreshold)
+  for (Eigen::Index e = 0; e < num_springs; ++e) {
+    const int i = springs_(0, e);
+    const int j = springs_(1, e);
+    spring_forces_.col(e) = spring_force(spring_stiffness_(e), rest_lengths_(e), params_.damping,
+                                         spring_geometry(positions_.col(i), positions_.col(j)),
+                                         velocities_.col(j) - velocities_.col(i));
+  }
+}
+
+void MassSpringModel::compute_spring_linearization(double dt) {
+  const Eigen::Index num_springs = springs_.cols();
+#pragma omp parallel for schedule(static) if (num_springs > kParallelThreshold)
+  for (Eigen::Index e = 0; e < num_springs; ++e) {
+    const int i = springs_(0, e);
+    const int j = springs_(1, e);
+    const SpringGeometry geometry = spring_geometry(positions_.col(i), positions_.col(j));
+    const Eigen::Vector3d& d = geometry.direction;
+    const double length = geometry.length;
+    const Eigen::Vector3d relative_velocity = velocities_.col(j) - velocities_.col(i);
+    const double k = spring_stiffness_(e);
+    const Eigen::Vector3d force =
+        spring_force(k, rest_lengths_(e), params_.damping, geometry, relative_velocity);
+    // K_e = -k S with S = d d^T + max(0, 1 - L/l) (I - d d^T): the transverse (geometric) term
+    // is dropped under compression, where it would make K indefinite (Baraff & Witkin 1998).
+    const Eigen::Matrix3d along = d * d.transpose();
+    const double transverse = length > 0.0 ? std::max(0.0, 1.0 - rest_lengths_(e) / length) : 0.0;
+    const Eigen::Matrix3d s = along + transverse * (Eigen::Matrix3d::Identity() - along);
+    // On vertex i: f_e + dt K_e (v_i - v_j) = f_e + dt k S (v_j - v_i).
+    spring_rhs_.col(e) = force + dt * k * (s * relative_velocity);
+    // The spring's share of A = M - dt D - dt^2 K, with D_e = -c d d^T (the dashpot).
+    Block(spring_blocks_.col(e).data()) = dt * params_.damping * along + dt * dt * k * s;
+  }
+}
+
+Eigen::Vector3d MassSpringModel::vertex_force(int vertex,
+                                              const StepInput& input,
+                                              const PositionConstraint* constraint) const {
+  const double mass = masses_(vertex);
+  Eigen::Vector3d force =
+      mass * input.gravity - params_.mass_damping * mass * velocities_.col(vertex);
+  if (input.external_forces != nullptr) {
+    force += input.external_forces->col(vertex);
+  }
+  if (is_penalty(constraint)) {
+    force += constraint->stiffness * (constraint->target - positions_.col(vertex));
+  }
+  return force;
+}
+
+StepStats MassSpringModel::step_symplectic(double dt, const StepInput& input) {
+  compute_spring_forces();
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+  for (int v = 0; v < num_vertices_; ++v) {
+    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    Eigen::Vector3d force = vertex_force(v, input, constraint);
+    for (int k = incident_offsets_[static_cast<std::size_t>(v)];
+         k < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
+      const int e = incident_springs_[static_cast<std::size_t>(k)];
+      force +=
+          springs_(0, e) == v ? spring_forces_.col(e) : Eigen::Vector3d(-spring_forces_.col(e));
+    }
+    const double mass = masses_(v);
+    if (is_exact(constraint)) {
+      // The vertex lands on its target; the reaction is what its momentum change needed beyond
+      // the other forces.
+      const Eigen::Vector3d new_velocity = (constraint->target - positions_.col(v)) / dt;
+      constraint_forces_.col(v) = mass * (new_velocity - velocities_.col(v)) / dt - force;
+      velocities_.col(v) = new_velocity;
+      positions_.col(v) = constraint->target;
+      continue;
+    }
+    constraint_forces_.col(v) =
+        is_penalty(constraint)
+            ? Eigen::Vector3d(constraint->stiffness * (constraint->target - positions_.col(v)))
+            : Eigen::Vector3d::Zero();
+    velocities_.col(v) += (dt / mass) * force;
+    positions_.col(v) += dt * velocities_.col(v);
+  }
+  return finish_step(input);
+}
+
+void MassSpringModel::assemble_implicit_system(double dt, const StepInput& input) {
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+  for (int v = 0; v < num_vertices_; ++v) {
+    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    const double mass = masses_(v);
+    // M - dt D for the mass damping D = -c_m m I.
+    Eigen::Matrix3d block =
+        (mass * (1.0 + dt * params_.mass_damping)) * Eigen::Matrix3d::Identity();
+    Eigen::Vector3d force = vertex_force(v, input, constraint);
+    if (is_penalty(constraint)) {
+      // A penalty spring to the target: K = -k_p I, so A gains dt^2 k_p I and b gains dt K v.
+      block.diagonal().array() += dt * dt * constraint->stiffness;
+      force -= dt * constraint->stiffness * velocities_.col(v);
+    }
+    for (int k = incident_offsets_[static_cast<std::size_t>(v)];
+         k < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
+      const int e = incident_springs_[static_cast<std::size_t>(k)];
+      force += springs_(0, e) == v ? spring_rhs_.col(e) : Eigen::Vector3d(-spring_rhs_.col(e));
+      block += ConstBlock(spring_blocks_.col(e).data());
+    }
+    Block(vertex_blocks_.col(v).data()) = block;
+    pattern_->set(pattern_->vertex_block(v), block);
+    rhs_.segment<3>(3 * v) = dt * force;
+  }
+  const Eigen::Index num_springs = springs_.cols();
+#pragma omp parallel for schedule(static) if (num_springs > kParallelThreshold)
+  for (Eigen::Index e = 0; e < num_springs; ++e) {
+    // The spring blocks are symmetric, so both off-diagonal positions get the same values.
+    const Eigen::Matrix3d coupling = -ConstBlock(spring_blocks_.col(e).data());
+    pattern_->set(pattern_->edge_block(static_cast<int>(e)), coupling);
+    pattern_->set(pattern_->edge_block_transposed(static_cast<int>(e)), coupling);
+  }
+}
+
+void MassSpringModel::eliminate_exact_constraints(double dt, const StepInput& input) {
+  const std::span<const PositionConstraint> constraints = input.constraints;
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const int v = constraints[k].vertex;
+    if (v < 0 || v >= num_vertices_
+        || constraint_index_[static_cast<std::size_t>(v)] != static_cast<int>(k)
+        || !is_exact(&constraints[k])) {
+      continue;  // out of range, overridden by a later constraint on the same vertex, or penalty
+    }
+    const Eigen::Vector3d known_change =
+        (constraints[k].target - positions_.col(v)) / dt - velocities_.col(v);
+    rhs_before_elimination_.col(v) = rhs_.segment<3>(3 * v);
+    for (int n = incident_offsets_[static_cast<std::size_t>(v)];
+         n < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++n) {
+      const int e = incident_springs_[static_cast<std::size_t>(n)];
+      const int other = springs_(0, e) + springs_(1, e) - v;
+      if (!is_exact(constraint_of(other, constraints))) {
+        // b_o -= A_oc dv_c with A_oc = -B_e.
+        rhs_.segment<3>(3 * other) += ConstBlock(spring_blocks_.col(e).data()) * known_change;
+      }
+      pattern_->set(pattern_->edge_block(e), Eigen::Matrix3d::Zero());
+      pattern_->set(pattern_->edge_block_transposed(e), Eigen::Matrix3d::Zero());
+    }
+    pattern_->set(pattern_->vertex_block(v), Eigen::Matrix3d::Identity());
+    velocity_change_.segment<3>(3 * v) = known_change;  // also CG's guess there
+  }
+  // Only now: a constrained vertex's b must stay intact until its own row was saved above.
+  for (const PositionConstraint& constraint : constraints) {
+    const int v = constraint.vertex;
+    if (v >= 0 && v < num_vertices_ && is_exact(constraint_of(v, constraints))) {
+      rhs_.segment<3>(3 * v) = velocity_change_.segment<3>(3 * v);
+    }
+  }
+}
+
+void MassSpringModel::compute_implicit_reactions(double dt, const StepInput& input) {
+  constraint_forces_.setZero();
+  for (const PositionConstraint& listed : input.constraints) {
+    const int v = listed.vertex;
+    if (v < 0 || v >= num_vertices_) {
+      continue;
+    }
+    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    if (is_penalty(constraint)) {
+      // The backward Euler penalty force, evaluated at the end of the step.
+      constraint_forces_.col(v) = constraint->stiffness * (constraint->target - positions_.col(v));
+      continue;
+    }
+    // (A dv - b)_v with the row as assembled: mass, damping, elastic and gravity terms.
+    Eigen::Vector3d row =
+        ConstBlock(vertex_blocks_.col(v).data()) * velocity_change_.segment<3>(3 * v)
+        - rhs_before_elimination_.col(v);
+    for (int n = incident_offsets_[static_cast<std::size_t>(v)];
+         n < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++n) {
+      const int e = incident_springs_[static_cast<std::size_t>(n)];
+      const int other = springs_(0, e) + springs_(1, e) - v;
+      row -= ConstBlock(spring_blocks_.col(e).data()) * velocity_change_.segment<3>(3 * other);
+    }
+    constraint_forces_.col(v) = row / dt;
+  }
+}
+
+StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
+  compute_spring_linearization(dt);
+  assemble_implicit_system(dt, input);
+  eliminate_exact_constraints(dt, input);
+  const SolveReport report = solver_->solve(pattern_->matrix(), rhs_, velocity_change_);
+
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+  for (int v = 0; v < num_vertices_; ++v) {
+    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    if (is_exact(constraint)) {
+      // Exactly on the target, whatever the solver's accuracy on the identity rows.
+      const Eigen::Vector3d new_velocity = (constraint->target - positions_.col(v)) / dt;
+      velocity_change_.segment<3>(3 * v) = new_velocity - velocities_.col(v);
+      velocities_.col(v) = new_velocity;
+      positions_.col(v) = constraint->target;
+    } else {
+      velocities_.col(v) += velocity_change_.segment<3>(3 * v);
+      positions_.col(v) += dt * velocities_.col(v);
+    }
+  }
+  compute_implicit_reactions(dt, input);
+
+  StepStats stats = finish_step(input);
+  stats.iterations = report.iterations;
+  stats.residual = report.residual;
+  stats.factorizations = report.factorizations;
+  stats.linear_solves = 1;
+  stats.finite = stats.finite && report.succeeded;
+  return stats;
+}
+
+StepStats MassSpringModel::finish_step(const StepInput& input) const {
+  StepStats stats;
+  for (const PositionConstraint& listed : input.constraints) {
+    if (listed.vertex >= 0 && listed.vertex < num_vertices_) {
+      const PositionConstraint* constraint = constraint_of(listed.vertex, input.constraints);
+      if (is_penalty(constraint)) {
+        stats.max_constraint_error =
+            std::max(stats.max_constraint_error,
+                     (positions_.col(listed.vertex) - constraint->target).norm());
+      }
+    }
+  }
+  stats.finite = positions_.allFinite() && velocities_.allFinite();
+  return stats;
+}
+
+}  // namespace softbench::mass_spring

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: MIT
+#include "models/model_registry.h"
+
+#include "geometry/input_error.h"
+
+#include <stdexcept>
+
+namespace softbench {
+
+void ModelRegistry::add(ModelInfo info) {
+  const std::string name = info.name;
+  if (!models_.emplace(name, std::move(info)).second) {
+    throw std::logic_error("model registered twice: " + name);
+  }
+}
+
+const ModelInfo& ModelRegistry::at(std::string_view name) const {
+  const auto found = models_.find(name);
+  if (found == models_.end()) {
+    std::string known;
+    for (const auto& [key, info] : models_) {
+      known += (known.empty() ? "" : ", ") + key;
+    }
+    throw InputError("unknown model \"" + std::string(name) + "\" (known: " + known + ")");
+  }
+  return found->second;
+}
+
+bool ModelRegistry::contains(std::string_view name) const {
+  return models_.contains(name);
+}
+
+std::vector<std::string> ModelRegistry::names() const {
+  std::vector<std::string> result;
+  for (const auto& [name, info] : models_) {
+    result.push_back(name);
+  }
+  return result;
+}
+
+}  // namespace softbench

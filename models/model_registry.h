@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "geometry/tet_mesh.h"
+#include "models/material.h"
+#include "models/param_table.h"
+#include "models/soft_body.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace softbench {
+
+/// Where a model's parameter block came from, for error messages ("scenes/x.json",
+/// "/models/mass_spring").
+struct ParamSource {
+  std::string file = "<parameters>";
+  std::string pointer;
+};
+
+/// Builds a model: all precomputation happens here. Throws InputError naming `source` for a bad
+/// parameter. `params` is the scene's block for this model (null: all defaults).
+using ModelFactory = std::function<std::unique_ptr<SoftBody>(const TetMesh& mesh,
+                                                             const Material& material,
+                                                             const nlohmann::json& params,
+                                                             const ParamSource& source)>;
+
+struct ModelInfo {
+  std::string name;     ///< the key used in scenes and on the CLI, e.g. "mass_spring"
+  std::string summary;  ///< one line for `softbench models`
+  std::vector<ParameterDoc> parameters;
+  ModelFactory create;
+};
+
+/// The models a build knows, by name. Explicit registration (builtin_models.cpp), not static
+/// self-registration: a linker drops unreferenced objects from a static library, and the
+/// explicit list is greppable and testable.
+class ModelRegistry {
+ public:
+  void add(ModelInfo info);                          ///< throws std::logic_error on a duplicate
+  const ModelInfo& at(std::string_view name) const;  ///< throws InputError listing known names
+  bool contains(std::string_view name) const;
+  std::vector<std::string> names() const;  ///< sorted; drives tests, benchmarks and the CLI
+
+ private:
+  std::map<std::string, ModelInfo, std::less<>> models_;
+};
+
+/// Every model of this build, registered once (models/builtin_models.cpp).
+const ModelRegistry& builtin_models();
+
+}  // namespace softbench

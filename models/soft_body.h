@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <limits>
+#include <span>
+#include <string_view>
+
+namespace softbench {
+
+/// Stiffness value meaning "enforce exactly".
+inline constexpr double kExact = std::numeric_limits<double>::infinity();
+
+/// A vertex held at a target position for one step: pins, grasps and contacts all arrive this way.
+struct PositionConstraint {
+  int vertex = -1;
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< m, world frame, at the end of the step
+  double stiffness = kExact;  ///< kExact: enforce exactly; finite: a penalty spring, N/m
+};
+
+/// Everything a scene imposes on a model for one step.
+struct StepInput {
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};           ///< m/s^2
+  const Eigen::Matrix3Xd* external_forces = nullptr;  ///< N per vertex (3 x #V); null = none
+  std::span<const PositionConstraint> constraints;    ///< at most one per vertex
+};
+
+/// What one step did and cost. Wall time is measured by the harness, never by the model, so every
+/// model is timed the same way.
+struct StepStats {
+  int iterations = 0;      ///< solver or projection iterations
+  double residual = 0.0;   ///< model-defined (documented in the model's header)
+  int factorizations = 0;  ///< numeric Cholesky factorizations this step
+  int linear_solves = 0;
+  double max_constraint_error = 0.0;  ///< m; > 0 means constraints were only approximated
+  bool finite = true;                 ///< false if NaN/Inf appeared; the harness stops the run
+};
+
+/// A deformable body simulated on the vertices of a TetMesh. Construction does all
+/// precomputation (factories in model_registry.h); step() advances the state by dt.
+class SoftBody {
+ public:
+  virtual ~SoftBody() = default;
+  SoftBody(const SoftBody&) = delete;
+  SoftBody& operator=(const SoftBody&) = delete;
+
+  virtual std::string_view name() const = 0;      ///< registry key, e.g. "mass_spring"
+  virtual nlohmann::json parameters() const = 0;  ///< effective parameters, defaults filled in
+  virtual StepStats step(double dt, const StepInput& input) = 0;  ///< dt in s, > 0
+  virtual void reset() = 0;  ///< rest positions, zero velocities
+
+  virtual const Eigen::Matrix3Xd& positions() const = 0;   ///< 3 x #V, m, TetMesh vertex order
+  virtual const Eigen::Matrix3Xd& velocities() const = 0;  ///< 3 x #V, m/s
+
+  /// N (3 x #V): the force each constraint of the last step exerted on its vertex; zero at
+  /// unconstrained vertices. At static equilibrium they balance the external loads.
+  virtual Eigen::Matrix3Xd constraint_forces() const;
+  /// J; NaN for a model without an elastic energy (shape matching).
+  virtual double elastic_energy() const;
+  /// Bytes the model holds (matrices, factors, per-element data): a memory metric.
+  virtual std::size_t memory_bytes() const;
+
+ protected:
+  SoftBody() = default;
+};
+
+}  // namespace softbench

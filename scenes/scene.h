@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "models/material.h"
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace softbench::scenes {
+
+// A scene as plain data: what scenes/README.md documents, after validation and with defaults
+// filled in. SI units throughout (m, s, kg, Pa, N). Only scenes/ and each model's parameter
+// table see JSON; everything else works on these structs.
+
+inline constexpr double kNever = std::numeric_limits<double>::infinity();
+
+struct Box {
+  Eigen::Vector3d min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d max = Eigen::Vector3d::Zero();
+};
+
+struct Plane {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  ///< unit length after loading
+  double tolerance = 0.0;  ///< m: vertices within this distance of the plane are selected
+};
+
+/// The vertices held in place for the whole scene: the union of an explicit list, a box and a
+/// plane band (any of them may be absent; at least one must select something).
+struct FixedRegion {
+  std::vector<int> vertices;
+  std::optional<Box> box;
+  std::optional<Plane> plane;
+};
+
+/// Gravity, switched off at `off_at` (the liver_gravity scene's "release").
+struct Gravity {
+  Eigen::Vector3d acceleration{0.0, 0.0, -9.81};  ///< m/s^2
+  double off_at = kNever;                         ///< s
+};
+
+/// A grasp path keyframe: displacement of the grasped patch from where it was grasped.
+struct GraspKeyframe {
+  double time = 0.0;                                 ///< s, absolute scene time
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();  ///< m
+};
+
+/// A patch of surface vertices (those within `radius` of `center` at rest) held from
+/// `start`, moved along `path` (piecewise linear in time; constant after the last keyframe),
+/// and let go at `release`.
+struct Grasp {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< m, in the rest frame
+  double radius = 0.01;                              ///< m
+  double start = 0.0;                                ///< s
+  double release = kNever;                           ///< s
+  std::vector<GraspKeyframe> path;                   ///< times in [start, release], increasing
+};
+
+/// An instrument keyframe: what the tool does from `time` on.
+struct InstrumentKeyframe {
+  double time = 0.0;                                   ///< s
+  std::string action;                                  ///< approach, press, hold, release
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< m, tool tip (approach)
+  double depth = 0.0;                                  ///< m (press)
+};
+
+/// A rigid instrument moved along a scripted path (contact: the collision issue).
+struct Instrument {
+  std::filesystem::path mesh;  ///< resolved against the scene file's folder
+  std::vector<InstrumentKeyframe> path;
+};
+
+/// When a run counts as blown up. A diverged model is reported, and the run goes on with the
+/// next model.
+struct StabilityLimits {
+  double max_speed = 50.0;  ///< m/s; faster than any tissue in these scenes moves
+  /// Largest displacement from rest as a multiple of the rest bounding-box diagonal.
+  double max_displacement = 10.0;
+};
+
+struct Scene {
+  std::string name;
+  std::string description;
+  std::filesystem::path source;  ///< the scene file
+  std::filesystem::path mesh;    ///< resolved against the scene file's folder
+  Material material;
+  Gravity gravity;
+  double dt = 1.0 / 60.0;  ///< s
+  double duration = 1.0;   ///< s
+  FixedRegion fixed;
+  std::optional<Grasp> grasp;
+  std::optional<Instrument> instrument;
+  StabilityLimits limits;
+  /// Per-model parameter blocks, as written; each model validates its own.
+  std::map<std::string, nlohmann::json> model_parameters;
+
+  int num_steps() const;  ///< ceil(duration / dt)
+  /// s: when the loads that recovery is measured after are let go (the grasp's release, else
+  /// gravity's off time); kNever if nothing is released.
+  double release_time() const;
+  /// s: the time whose shape recovery is measured against (just before the grasp acts; 0 when
+  /// the load acts from the start, i.e. the rest shape).
+  double reference_time() const;
+};
+
+/// Loads and validates a scene file. Errors name the file, the JSON pointer and what was
+/// expected: `scenes/x.json: /material/poisson_ratio: expected a number in [0, 0.5), got 0.5`.
+/// Checks that the mesh (and instrument mesh) files exist, but does not read them.
+Scene load_scene(const std::filesystem::path& path);
+/// The same from already-parsed JSON; `source` names the file and resolves relative paths.
+Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& source);
+
+/// The scene with every default filled in, as JSON, for metrics.json.
+nlohmann::json to_json(const Scene& scene);
+
+}  // namespace softbench::scenes

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+#include "scenes/scene_regions.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_measures.h"
+#include "geometry/mesh_topology.h"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace softbench::scenes {
+namespace {
+
+std::string format_number(double value) {
+  std::ostringstream out;
+  out << value;
+  return out.str();
+}
+
+// Streamed rather than concatenated: GCC 12 -O3 warns falsely (-Wrestrict) on "[" + string.
+std::string format_vector(const Eigen::Vector3d& value) {
+  std::ostringstream out;
+  out << '[' << value.x() << ", " << value.y() << ", " << value.z() << ']';
+  return out.str();
+}
+
+bool inside(const Box& box, const Eigen::Vector3d& point) {
+  return (point.array() >= box.min.array()).all() && (point.array() <= box.max.array()).all();
+}
+
+bool within_band(const Plane& plane, const Eigen::Vector3d& point) {
+  return std::abs((point - plane.point).dot(plane.normal)) <= plane.tolerance;
+}
+
+}  // namespace
+
+std::vector<int> fixed_vertices(const Scene& scene, const TetMesh& mesh) {
+  const FixedRegion& fixed = scene.fixed;
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  const int num_vertices = mesh.num_vertices();
+  std::vector<int> selected;
+  for (std::size_t i = 0; i < fixed.vertices.size(); ++i) {
+    const int vertex = fixed.vertices[i];
+    if (vertex < 0 || vertex >= num_vertices) {
+      throw InputError(scene.source.string() + ": /fixed/vertices/" + std::to_string(i)
+                       + ": expected a vertex index in [0, " + std::to_string(num_vertices - 1)
+                       + "] (" + scene.mesh.string() + " has " + std::to_string(num_vertices)
+                       + " vertices), got " + std::to_string(vertex));
+    }
+    selected.push_back(vertex);
+  }
+  for (int vertex = 0; vertex < num_vertices; ++vertex) {
+    const Eigen::Vector3d point = rest.col(vertex);
+    if ((fixed.box && inside(*fixed.box, point))
+        || (fixed.plane && within_band(*fixed.plane, point))) {
+      selected.push_back(vertex);
+    }
+  }
+  std::sort(selected.begin(), selected.end());
+  selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
+  if (selected.empty()) {
+    const Eigen::Matrix<double, 3, 2> bounds = bounding_box(rest);
+    throw InputError(scene.source.string() + ": /fixed: selects no vertex of " + scene.mesh.string()
+                     + " (its vertices span " + format_vector(bounds.col(0)) + " to "
+                     + format_vector(bounds.col(1)) + ")");
+  }
+  return selected;
+}
+
+std::vector<int> grasped_vertices(const Scene& scene, const TetMesh& mesh) {
+  if (!scene.grasp) {
+    return {};  // nothing is grasped
+  }
+  const Grasp& grasp = *scene.grasp;
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  const Eigen::Matrix3Xi triangles = boundary_triangles(mesh.tets());
+  std::vector<bool> on_surface(static_cast<std::size_t>(mesh.num_vertices()), false);
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int corner = 0; corner < 3; ++corner) {
+      on_surface[static_cast<std::size_t>(triangles(corner, t))] = true;
+    }
+  }
+  std::vector<int> selected;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int vertex = 0; vertex < mesh.num_vertices(); ++vertex) {
+    if (!on_surface[static_cast<std::size_t>(vertex)]) {
+      continue;
+    }
+    const double distance = (rest.col(vertex) - grasp.center).norm();
+    nearest = std::min(nearest, distance);
+    if (distance <= grasp.radius) {
+      selected.push_back(vertex);
+    }
+  }
+  if (selected.empty()) {
+    throw InputError(scene.source.string() + ": /grasp: selects no surface vertex of "
+                     + scene.mesh.string() + " within radius " + format_number(grasp.radius)
+                     + " of center " + format_vector(grasp.center) + " (the nearest is "
+                     + format_number(nearest) + " away)");
+  }
+  return selected;
+}
+
+Eigen::Vector3d grasp_offset(const Grasp& grasp, double time) {
+  const std::vector<GraspKeyframe>& path = grasp.path;
+  if (path.empty() || time < path.front().time) {
+    return Eigen::Vector3d::Zero();
+  }
+  if (time >= path.back().time) {
+    return path.back().offset;
+  }
+  // The first keyframe after `time`; the one before it is at or before `time`.
+  const auto after =
+      std::upper_bound(path.begin(), path.end(), time,
+                       [](double t, const GraspKeyframe& frame) { return t < frame.time; });
+  const GraspKeyframe& from = *(after - 1);
+  const GraspKeyframe& to = *after;
+  const double fraction = (time - from.time) / (to.time - from.time);
+  return from.offset + fraction * (to.offset - from.offset);
+}
+
+}  // namespace softbench::scenes

@@ -1,0 +1,546 @@
+// SPDX-License-Identifier: MIT
+#include "models/mass_spring/mass_spring.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_measures.h"
+#include "geometry/mesh_validation.h"
+#include "tests/test_meshes.h"
+#include "tests/test_tolerances.h"
+
+#include <Eigen/Geometry>
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace softbench {
+namespace {
+
+using ::testing::HasSubstr;
+using Params = MassSpringParams;
+
+// ---------------------------------------------------------------------------------------------
+// Helpers
+
+/// Holds every vertex at `targets`.
+std::vector<PositionConstraint> pin_all(const Eigen::Matrix3Xd& targets) {
+  std::vector<PositionConstraint> pins;
+  for (int v = 0; v < targets.cols(); ++v) {
+    pins.push_back({v, targets.col(v), kExact});
+  }
+  return pins;
+}
+
+/// Exact pins on every vertex with x <= min x (+ a hair): one face of a box.
+std::vector<PositionConstraint> pin_min_x_face(const TetMesh& mesh) {
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  const double min_x = rest.row(0).minCoeff();
+  std::vector<PositionConstraint> pins;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (rest(0, v) <= min_x + 1e-12) {
+      pins.push_back({v, rest.col(v), kExact});
+    }
+  }
+  return pins;
+}
+
+StepInput no_gravity(std::span<const PositionConstraint> constraints = {}) {
+  StepInput input;
+  input.gravity.setZero();
+  input.constraints = constraints;
+  return input;
+}
+
+/// Puts the body at `targets` with zero velocity: the first exact step lands it there, the
+/// second holds it, leaving v = (target - target) / dt = 0 exactly.
+void place_at_rest(SoftBody& body, const Eigen::Matrix3Xd& targets) {
+  const std::vector<PositionConstraint> pins = pin_all(targets);
+  constexpr double kDt = 0.01;
+  body.step(kDt, no_gravity(pins));
+  body.step(kDt, no_gravity(pins));
+}
+
+double kinetic_energy(const SoftBody& body, const Eigen::VectorXd& masses) {
+  return 0.5
+         * (body.velocities().colwise().squaredNorm().transpose().array() * masses.array()).sum();
+}
+
+Params symplectic(double damping = 5.0) {
+  Params params;
+  params.integrator = Params::Integrator::kSymplecticEuler;
+  params.damping = damping;
+  return params;
+}
+
+Params implicit(Params::LinearSolver solver, double cg_tolerance = 1e-6) {
+  Params params;
+  params.integrator = Params::Integrator::kImplicitEuler;
+  params.solver = solver;
+  params.cg_tolerance = cg_tolerance;
+  params.cg_max_iterations = 2000;
+  return params;
+}
+
+/// A liver-sized box (20 x 15 x 10 cm, 5 cm cells).
+TetMesh liver_like_box() {
+  return make_tet_mesh(test::box_tets(4, 3, 2, 0.2, 0.15, 0.1));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Forces
+
+TEST(MassSpring, RigidTranslationAndRotationProduceNoSpringForce) {
+  const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 2));
+  const Eigen::Affine3d translation(Eigen::Translation3d(0.3, -1.2, 2.5));
+  const Eigen::Affine3d rotation = Eigen::Translation3d(0.1, 0.2, 0.3)
+                                   * Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, 2, 3).normalized());
+  for (const Eigen::Affine3d& motion : {translation, rotation}) {
+    auto body = make_mass_spring(mesh, Material{}, symplectic());
+    const Eigen::Matrix3Xd moved = motion * mesh.rest_positions();
+    place_at_rest(*body, moved);
+    ASSERT_TRUE(body->velocities().isZero(0.0));
+
+    body->step(0.01, no_gravity());
+    // Rotated lengths differ from the rest lengths by round-off (~1e-16 m): forces ~180 * 1e-16 N.
+    EXPECT_LT(body->velocities().cwiseAbs().maxCoeff(), test::kRoundoff);
+    EXPECT_LT(body->elastic_energy(), test::kRoundoff);
+  }
+}
+
+TEST(MassSpring, ElasticEnergyIsHalfStiffnessTimesStretchSquared) {
+  // Single tet, vertex 3 lifted by h along z: only spring 0-3 (length 1 + h) and the two
+  // springs 1-3 and 2-3 (length sqrt(1 + (1 + h)^2), rest sqrt(2)) stretch.
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  auto body = make_mass_spring(mesh, Material{}, symplectic());
+  Eigen::Matrix3Xd moved = mesh.rest_positions();
+  constexpr double kLift = 0.1;
+  moved(2, 3) += kLift;
+  place_at_rest(*body, moved);
+  const double diagonal_stretch = std::sqrt(1.0 + (1.0 + kLift) * (1.0 + kLift)) - std::sqrt(2.0);
+  const double expected = 0.5 * 180.0 * (kLift * kLift + 2.0 * diagonal_stretch * diagonal_stretch);
+  EXPECT_NEAR(body->elastic_energy(), expected, expected * test::kRoundoff);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Dynamics
+
+TEST(MassSpring, SymplecticEulerOscillatesAtTheAnalyticFrequency) {
+  // Single unit tet, vertices 0, 1, 2 pinned, vertex 3 = (0, 0, 1) free. Along
+  // u = (1, -1, 0)/sqrt(2), spring 3-0 (along z) is transverse, and springs 3-1 and 3-2 have
+  // (d.u)^2 = 1/4 each, so u is an eigenvector of sum k d d^T with k_eff = k/2: a pure mode,
+  // omega^2 = k_eff / m_3 with m_3 = density * (1/6) / 4.
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  const Material material;
+  const Params params = symplectic(/*damping=*/0.0);
+  auto body = make_mass_spring(mesh, material, params);
+  const Eigen::Vector3d u = Eigen::Vector3d(1, -1, 0).normalized();
+  const double mass = material.density / 24.0;
+  const double omega = std::sqrt(0.5 * params.stiffness / mass);
+  const double period = 2.0 * std::numbers::pi / omega;
+
+  constexpr double kAmplitude = 1e-4;  // m: small against the 1 m springs, so linear
+  Eigen::Matrix3Xd start = mesh.rest_positions();
+  start.col(3) += kAmplitude * u;
+  place_at_rest(*body, start);
+
+  std::vector<PositionConstraint> pins;
+  for (int v = 0; v < 3; ++v) {
+    pins.push_back({v, mesh.rest_positions().col(v), kExact});
+  }
+  // dt = period / ~4400: symplectic Euler's frequency error is (omega dt)^2 / 24 ~ 1e-7.
+  constexpr double kDt = 1e-3;
+  std::vector<double> crossings;
+  double previous = kAmplitude;
+  for (int step = 1; step * kDt < 5.5 * period; ++step) {
+    body->step(kDt, no_gravity(pins));
+    const double displacement = (body->positions().col(3) - mesh.rest_positions().col(3)).dot(u);
+    if ((previous > 0.0) != (displacement > 0.0)) {
+      // Linear interpolation between the two samples around the sign change.
+      crossings.push_back((step - 1 + previous / (previous - displacement)) * kDt);
+    }
+    previous = displacement;
+  }
+  ASSERT_GE(crossings.size(), 10U);
+  const double measured =
+      2.0 * (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  constexpr double kFrequencyTolerance = 0.01;  // the requirement: within 1 %
+  EXPECT_NEAR(measured, period, kFrequencyTolerance * period);
+}
+
+TEST(MassSpring, ImplicitEulerMatchesSymplecticEulerAtSmallTimeSteps) {
+  // Both integrate the same ODE; from a stretched state at rest, 20 steps of 1e-5 s must agree
+  // to first order in dt: the difference is a small fraction of the motion.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 2, 0.1, 0.1, 0.1));
+  Eigen::Matrix3Xd stretched = mesh.rest_positions();
+  stretched.row(0) *= 1.2;
+  auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
+  auto implicit_body = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+  place_at_rest(*explicit_body, stretched);
+  place_at_rest(*implicit_body, stretched);
+  for (int step = 0; step < 20; ++step) {
+    explicit_body->step(1e-5, StepInput{});
+    implicit_body->step(1e-5, StepInput{});
+  }
+  const double motion = (explicit_body->positions() - stretched).norm();
+  const double difference = (explicit_body->positions() - implicit_body->positions()).norm();
+  ASSERT_GT(motion, 0.0);
+  constexpr double kFirstOrderAgreement = 0.05;  // O(dt) relative, generous
+  EXPECT_LT(difference, kFirstOrderAgreement * motion);
+}
+
+TEST(MassSpring, ImplicitEulerIsStableAtThirtyHertzWhereSymplecticEulerBlowsUp) {
+  // The thesis's parameters (k = 180 N/m, c = 5 N s/m, 1060 kg/m^3) on a liver-sized box hung
+  // from one face. Its light corner vertices (~6 g) with several springs have
+  // omega_max ~ sqrt(sum k / m) ~ 500 1/s, far beyond symplectic Euler's 2 / dt = 60 1/s.
+  const TetMesh mesh = liver_like_box();
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  constexpr double kDt = 1.0 / 30.0;
+  constexpr int kSteps = 300;
+
+  auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
+  bool explicit_finite = true;
+  for (int step = 0; step < kSteps && explicit_finite; ++step) {
+    explicit_finite = explicit_body->step(kDt, input).finite;
+  }
+  EXPECT_FALSE(explicit_finite);
+
+  auto implicit_body =
+      make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kConjugateGradient));
+  for (int step = 0; step < kSteps; ++step) {
+    ASSERT_TRUE(implicit_body->step(kDt, input).finite) << "step " << step;
+  }
+  // Bounded: the 20 cm box sags under its weight but stays within a metre of its rest shape.
+  const double max_displacement =
+      (implicit_body->positions() - mesh.rest_positions()).colwise().norm().maxCoeff();
+  EXPECT_LT(max_displacement, 1.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Constraints and reactions
+
+TEST(MassSpring, PinnedVerticesNeverMoveWithEitherIntegrator) {
+  const TetMesh mesh = liver_like_box();
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod),
+                               implicit(Params::LinearSolver::kConjugateGradient)}) {
+    auto body = make_mass_spring(mesh, Material{}, params);
+    // Symplectic Euler needs a small dt with these parameters; implicit Euler runs at 60 Hz.
+    const double dt = params.integrator == Params::Integrator::kSymplecticEuler ? 1e-4 : 1.0 / 60.0;
+    for (int step = 0; step < 50; ++step) {
+      const StepStats stats = body->step(dt, input);
+      ASSERT_TRUE(stats.finite);
+      EXPECT_EQ(stats.max_constraint_error, 0.0);
+      for (const PositionConstraint& pin : pins) {
+        // Bit-exact: the position is the target itself, not a solve's approximation of it.
+        ASSERT_EQ(body->positions().col(pin.vertex), pin.target);
+        ASSERT_TRUE(body->velocities().col(pin.vertex).isZero(0.0));
+      }
+    }
+    // And the rest did move: gravity acts.
+    EXPECT_GT((body->positions() - mesh.rest_positions()).norm(), 0.0);
+  }
+}
+
+TEST(MassSpring, ReactionsBalanceGravityAtRest) {
+  const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.15, 0.1, 0.1));
+  const Material material;
+  const Eigen::VectorXd masses = lumped_masses(mesh, material.density);
+  const Eigen::Vector3d weight = masses.sum() * StepInput{}.gravity;
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  for (const Params& params :
+       {implicit(Params::LinearSolver::kCholmod),
+        implicit(Params::LinearSolver::kConjugateGradient, /*cg_tolerance=*/1e-12)}) {
+    auto body = make_mass_spring(mesh, material, params);
+    constexpr double kRestKineticEnergy = 1e-20;  // J: velocities ~1e-10 m/s
+    int step = 0;
+    for (; step < 5000 && (step < 10 || kinetic_energy(*body, masses) > kRestKineticEnergy);
+         ++step) {
+      ASSERT_TRUE(body->step(1.0 / 30.0, input).finite);
+    }
+    ASSERT_LE(kinetic_energy(*body, masses), kRestKineticEnergy) << "not at rest after " << step;
+
+    const Eigen::Vector3d total_reaction = body->constraint_forces().rowwise().sum();
+    constexpr double kBalance = 1e-6;  // the requirement: 1e-6 relative to the weight
+    EXPECT_LT((total_reaction + weight).norm(), kBalance * weight.norm())
+        << "reaction " << total_reaction.transpose() << ", weight " << weight.transpose();
+    // Reactions act only at the pinned vertices.
+    Eigen::Matrix3Xd unpinned = body->constraint_forces();
+    for (const PositionConstraint& pin : pins) {
+      unpinned.col(pin.vertex).setZero();
+    }
+    EXPECT_TRUE(unpinned.isZero(0.0));
+  }
+}
+
+TEST(MassSpring, SymplecticReactionIsTheMomentumChangeMinusTheOtherForces) {
+  // A single tet hanging from vertices 0, 1, 2 at rest: on the first step nothing has moved, so
+  // each pin's reaction is minus the forces on it: its weight (the springs are at rest length).
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  const Material material;
+  auto body = make_mass_spring(mesh, material, symplectic());
+  std::vector<PositionConstraint> pins;
+  for (int v = 0; v < 3; ++v) {
+    pins.push_back({v, mesh.rest_positions().col(v), kExact});
+  }
+  StepInput input;
+  input.constraints = pins;
+  body->step(1e-4, input);
+  const double vertex_mass = material.density / 24.0;
+  for (int v = 0; v < 3; ++v) {
+    EXPECT_TRUE(
+        body->constraint_forces().col(v).isApprox(-vertex_mass * input.gravity, test::kRoundoff));
+  }
+  EXPECT_TRUE(body->constraint_forces().col(3).isZero(0.0));
+}
+
+TEST(MassSpring, PenaltyConstraintsPullTowardTheirTargetAndReportTheirError) {
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod)}) {
+    auto body = make_mass_spring(mesh, Material{}, params);
+    const Eigen::Vector3d target = mesh.rest_positions().col(3) + Eigen::Vector3d(0.0, 0.0, 0.01);
+    const std::vector<PositionConstraint> grab{{3, target, 1000.0}};
+    const StepStats stats = body->step(1e-3, no_gravity(grab));
+    const Eigen::Vector3d gap = target - body->positions().col(3);
+    EXPECT_GT(body->velocities()(2, 3), 0.0);  // pulled up
+    EXPECT_NEAR(stats.max_constraint_error, gap.norm(), test::kRoundoff);
+    EXPECT_GT(stats.max_constraint_error, 0.0);
+    // The reported force is the penalty spring's, pointing at the target.
+    EXPECT_GT(body->constraint_forces()(2, 3), 0.0);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Linear solvers
+
+TEST(MassSpring, CholmodAndConjugateGradientAgreeOnOneStep) {
+  const TetMesh mesh = liver_like_box();
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  constexpr double kCgTolerance = 1e-10;
+  auto direct = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+  auto iterative = make_mass_spring(
+      mesh, Material{}, implicit(Params::LinearSolver::kConjugateGradient, kCgTolerance));
+  const StepStats direct_stats = direct->step(1.0 / 30.0, input);
+  const StepStats iterative_stats = iterative->step(1.0 / 30.0, input);
+
+  EXPECT_EQ(direct_stats.factorizations, 1);
+  EXPECT_LT(direct_stats.residual, 1e-12);  // a backward-stable direct solve
+  EXPECT_GT(iterative_stats.iterations, 0);
+  EXPECT_LE(iterative_stats.residual, kCgTolerance);
+  // CG bounds the residual; the error is at most cond(A) times that. A = M + dt c L + dt^2 k L
+  // here has cond(A) < 1e3, so the solutions agree to 1e3 x the tolerance.
+  constexpr double kConditionBound = 1e3;
+  EXPECT_LT((direct->velocities() - iterative->velocities()).norm(),
+            kConditionBound * kCgTolerance * direct->velocities().norm());
+}
+
+TEST(MassSpring, ConjugateGradientReportsHittingItsIterationCap) {
+  const TetMesh mesh = liver_like_box();
+  Params params = implicit(Params::LinearSolver::kConjugateGradient, 1e-14);
+  params.cg_max_iterations = 3;
+  auto body = make_mass_spring(mesh, Material{}, params);
+  const StepStats stats = body->step(1.0 / 30.0, StepInput{});
+  EXPECT_EQ(stats.iterations, 3);
+  EXPECT_GT(stats.residual, 1e-14);
+  EXPECT_TRUE(stats.finite);
+}
+
+TEST(MassSpring, ResetRestoresTheRestStateAfterABlowUp) {
+  const TetMesh mesh = liver_like_box();
+  auto body = make_mass_spring(mesh, Material{}, symplectic());
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  bool finite = true;
+  for (int step = 0; step < 300 && finite; ++step) {
+    finite = body->step(1.0 / 30.0, input).finite;
+  }
+  ASSERT_FALSE(finite);
+  body->reset();
+  EXPECT_EQ(body->positions(), mesh.rest_positions());
+  EXPECT_TRUE(body->velocities().isZero(0.0));
+  EXPECT_TRUE(body->step(1e-4, input).finite);
+}
+
+TEST(MassSpring, ExternalForcesAccelerateTheirVertex) {
+  // A free single tet at rest: the springs are at rest length, so one step gives the loaded
+  // vertex v = dt F / m with either integrator (implicit Euler: the springs resist only at
+  // O(dt^2 k / m), so compare to that order).
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  const Material material;
+  const Eigen::Vector3d load(0.0, 2.0, 0.0);
+  Eigen::Matrix3Xd loads(3, 4);
+  loads << Eigen::Matrix3d::Zero(), load;
+  StepInput input = no_gravity();
+  input.external_forces = &loads;
+  const double dt = 1e-6;
+  const double mass = material.density / 24.0;
+  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod)}) {
+    auto body = make_mass_spring(mesh, material, params);
+    body->step(dt, input);
+    const Eigen::Vector3d expected = dt * load / mass;
+    constexpr double kSpringCoupling = 1e-3;  // dt c / m and dt^2 k / m are below 1e-6 here
+    EXPECT_TRUE(body->velocities().col(3).isApprox(expected, kSpringCoupling));
+  }
+}
+
+TEST(MassSpring, ANonFiniteStepIsReportedNotThrown) {
+  const TetMesh mesh = liver_like_box();
+  StepInput input;
+  input.gravity.x() = std::numeric_limits<double>::quiet_NaN();
+  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod),
+                               implicit(Params::LinearSolver::kConjugateGradient)}) {
+    auto body = make_mass_spring(mesh, Material{}, params);
+    StepStats stats;
+    EXPECT_NO_THROW(stats = body->step(1.0 / 60.0, input));
+    EXPECT_FALSE(stats.finite);
+  }
+}
+
+TEST(MassSpring, ReportsTheMemoryItHolds) {
+  const TetMesh mesh = liver_like_box();
+  auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
+  auto direct = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+  EXPECT_GT(explicit_body->memory_bytes(), 0U);
+  // The implicit model adds the 3N x 3N system and the factor.
+  EXPECT_GT(direct->memory_bytes(), explicit_body->memory_bytes());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Parameters
+
+std::string factory_error(const nlohmann::json& params) {
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  try {
+    mass_spring_info().create(mesh, Material{}, params, {"scene.json", "/models/mass_spring"});
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(MassSpringParams, UnknownKeyIsRejectedNamingFileAndPointer) {
+  EXPECT_THAT(factory_error({{"stifness", 100.0}}),
+              HasSubstr("scene.json: /models/mass_spring/stifness"));
+}
+
+TEST(MassSpringParams, WrongTypeIsRejected) {
+  EXPECT_THAT(factory_error({{"stiffness", "stiff"}}),
+              HasSubstr("scene.json: /models/mass_spring/stiffness: expected a number > 0"));
+  EXPECT_THAT(factory_error({{"cg_max_iterations", 2.5}}),
+              HasSubstr("/models/mass_spring/cg_max_iterations"));
+}
+
+TEST(MassSpringParams, OutOfRangeValuesAreRejected) {
+  EXPECT_THAT(factory_error({{"stiffness", -1.0}}),
+              HasSubstr("/models/mass_spring/stiffness: expected a number > 0, got -1"));
+  EXPECT_THAT(factory_error({{"damping", -0.5}}), HasSubstr("/models/mass_spring/damping"));
+  EXPECT_THAT(factory_error({{"cg_tolerance", 0.0}}),
+              HasSubstr("/models/mass_spring/cg_tolerance"));
+  EXPECT_THAT(factory_error({{"integrator", "rk4"}}),
+              HasSubstr("/models/mass_spring/integrator: expected one of \"symplectic_euler\", "
+                        "\"implicit_euler\""));
+}
+
+TEST(MassSpringParams, DirectConstructionRejectsInvalidParametersAndMaterial) {
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  Params negative;
+  negative.stiffness = -180.0;
+  EXPECT_THROW(make_mass_spring(mesh, Material{}, negative), InputError);
+  Params not_a_number;
+  not_a_number.damping = std::nan("");
+  EXPECT_THROW(make_mass_spring(mesh, Material{}, not_a_number), InputError);
+  EXPECT_THROW(make_mass_spring(mesh, Material{-1.0, 0.3, 1000.0}, Params{}), InputError);
+}
+
+TEST(MassSpringParams, RegistryListsEveryParameterWithItsDefault) {
+  const ModelInfo info = mass_spring_info();
+  EXPECT_EQ(info.name, "mass_spring");
+  std::vector<std::string> names;
+  for (const ParameterDoc& doc : info.parameters) {
+    names.push_back(doc.name);
+    EXPECT_FALSE(doc.description.empty()) << doc.name;
+    if (doc.name == "stiffness") {
+      EXPECT_EQ(doc.default_value, 180.0);
+    }
+  }
+  EXPECT_THAT(names, ::testing::UnorderedElementsAre("stiffness", "stiffness_from", "damping",
+                                                     "mass_damping", "integrator", "solver",
+                                                     "cg_tolerance", "cg_max_iterations"));
+}
+
+TEST(MassSpringParams, ParametersRoundTripThroughTheRegistryFactory) {
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  const nlohmann::json given = {{"stiffness", 250.0},
+                                {"stiffness_from", "young_modulus"},
+                                {"damping", 2.0},
+                                {"mass_damping", 0.5},
+                                {"integrator", "implicit_euler"},
+                                {"solver", "cholmod"},
+                                {"cg_tolerance", 1e-8},
+                                {"cg_max_iterations", 50}};
+  auto body = mass_spring_info().create(mesh, Material{}, given, ParamSource{});
+  EXPECT_EQ(body->parameters(), given);
+  auto again = mass_spring_info().create(mesh, Material{}, body->parameters(), ParamSource{});
+  EXPECT_EQ(again->parameters(), given);
+  // Null means all defaults, echoed in full.
+  auto defaults = mass_spring_info().create(mesh, Material{}, nullptr, ParamSource{});
+  EXPECT_EQ(defaults->parameters()["integrator"], "implicit_euler");
+  EXPECT_EQ(defaults->parameters()["solver"], "cg");
+  EXPECT_EQ(defaults->parameters().size(), given.size());
+}
+
+TEST(MassSpringParams, YoungModulusStiffnessStoresTheContinuumEnergyOfAUniaxialStretch) {
+  // Van Gelder's k_e = E V_e / L_e^2 (V_e: volume of the tets around e) under x -> (1 + eps) x
+  // stretches each spring by L eps d_x^2 to first order, so the energy is
+  // 1/2 E eps^2 sum_tets V_t sum_{edges of t} d_x^4. A Kuhn tet has one axis edge along x
+  // (d_x^4 = 1), on average 4/3 face diagonals in a plane containing x (1/4 each) and the body
+  // diagonal (1/9): 13/9 per tet. So the spring energy is 13/9 of the continuum uniaxial-stress
+  // energy 1/2 E eps^2 V, within the factor 2 a mass-spring model (whose Poisson ratio is fixed
+  // by its geometry) can promise; for nu = 0.3 the continuum uniaxial-strain energy is 1.35
+  // times it.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(3, 3, 3, 0.3, 0.3, 0.3));
+  const Material material;
+  Params params;
+  params.stiffness_from = Params::StiffnessFrom::kYoungModulus;
+  auto body = make_mass_spring(mesh, material, params);
+  constexpr double kStrain = 1e-4;
+  Eigen::Matrix3Xd stretched = mesh.rest_positions();
+  stretched.row(0) *= 1.0 + kStrain;
+  place_at_rest(*body, stretched);
+
+  const double continuum = 0.5 * material.young_modulus * kStrain * kStrain * mesh_volume(mesh);
+  const double ratio = body->elastic_energy() / continuum;
+  constexpr double kFirstOrderInStrain = 1e-3;  // the linearisation drops O(eps) relative terms
+  EXPECT_NEAR(ratio, 13.0 / 9.0, kFirstOrderInStrain);
+  EXPECT_GT(ratio, 0.5);
+  EXPECT_LT(ratio, 2.0);
+}
+
+TEST(MassSpringParams, YoungModulusStiffnessScalesWithTheMaterial) {
+  const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 2));
+  Params params;
+  params.stiffness_from = Params::StiffnessFrom::kYoungModulus;
+  Eigen::Matrix3Xd stretched = mesh.rest_positions();
+  stretched.row(1) *= 1.01;
+  auto soft = make_mass_spring(mesh, Material{1000.0, 0.3, 1000.0}, params);
+  auto stiff = make_mass_spring(mesh, Material{4000.0, 0.3, 1000.0}, params);
+  place_at_rest(*soft, stretched);
+  place_at_rest(*stiff, stretched);
+  EXPECT_NEAR(stiff->elastic_energy(), 4.0 * soft->elastic_energy(),
+              4.0 * soft->elastic_energy() * test::kRoundoff);
+}
+
+}  // namespace
+}  // namespace softbench

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#include "models/model_registry.h"
+
+#include "geometry/input_error.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace softbench {
+namespace {
+
+TEST(ModelRegistry, ListsTheBuiltinModelsSorted) {
+  const std::vector<std::string> names = builtin_models().names();
+  EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
+  EXPECT_THAT(names, ::testing::Contains("mass_spring"));
+  for (const std::string& name : names) {
+    const ModelInfo& info = builtin_models().at(name);
+    EXPECT_EQ(info.name, name);
+    EXPECT_FALSE(info.summary.empty()) << name;
+    EXPECT_FALSE(info.parameters.empty()) << name;
+    for (const ParameterDoc& doc : info.parameters) {
+      EXPECT_FALSE(doc.description.empty()) << name << "." << doc.name;
+    }
+  }
+}
+
+TEST(ModelRegistry, AnUnknownNameListsTheKnownOnes) {
+  try {
+    builtin_models().at("fem9000");
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("unknown model \"fem9000\" (known: "));
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("mass_spring"));
+  }
+}
+
+TEST(ModelRegistry, RefusesToRegisterANameTwice) {
+  ModelRegistry registry;
+  registry.add({"a", "first", {}, nullptr});
+  EXPECT_THROW(registry.add({"a", "second", {}, nullptr}), std::logic_error);
+}
+
+}  // namespace
+}  // namespace softbench
