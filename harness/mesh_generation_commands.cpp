@@ -7,6 +7,7 @@
 #include "harness/mesh_info.h"
 #include "meshgen/instrument_mesh.h"
 #include "meshgen/liver_pipeline.h"
+#include "meshgen/surface_simplification.h"
 
 #include <nlohmann/json.hpp>
 
@@ -96,11 +97,15 @@ void run_liver(const LiverArguments& arguments) {
 struct TetrahedralizeArguments {
   std::string surface;
   std::string out_dir;
+  int surface_vertices = 0;
   meshgen::TetrahedralizeOptions options;
 };
 
 void run_tetrahedralize(const TetrahedralizeArguments& arguments) {
-  const TriMesh surface = make_closed_surface(read_mesh(arguments.surface));
+  TriMesh surface = make_closed_surface(read_mesh(arguments.surface));
+  if (arguments.surface_vertices > 0) {
+    surface = meshgen::simplify_surface(surface, arguments.surface_vertices);
+  }
   MeshData volume = meshgen::tetrahedralize(surface, arguments.options);
   const fs::path out_dir = arguments.out_dir;
   fs::create_directories(out_dir);
@@ -128,6 +133,10 @@ void add_mesh_generation_commands(CLI::App& mesh) {
   tetrahedralize->add_option("surface", tet_arguments->surface, "closed surface mesh file")
       ->required();
   tetrahedralize->add_option("--out", tet_arguments->out_dir, "output folder")->required();
+  tetrahedralize
+      ->add_option("--surface-vertices", tet_arguments->surface_vertices,
+                   "remesh the surface to about this many well-shaped vertices first (0: keep it)")
+      ->check(CLI::NonNegativeNumber);
   tetrahedralize
       ->add_option("--max-volume", tet_arguments->options.max_volume,
                    "largest tet volume, in the surface's units cubed (0: no bound)")

@@ -45,7 +45,15 @@ void inspect_tets(const MeshData& data, MeshInfo& info) {
   }
 }
 
-void inspect_triangles(const MeshData& data, MeshInfo& info) {
+// The triangles stored next to tets (boundary elements in Gmsh files): only their topology
+// matters, since the tets' validation already covered coordinates and interior vertices are
+// rightly on no triangle.
+void inspect_boundary_elements(const MeshData& data, MeshInfo& info) {
+  info.surface = surface_topology(data.triangles, info.vertices);
+  info.surface_area = surface_area(TriMesh{data.vertices, data.triangles});
+}
+
+void inspect_surface(const MeshData& data, MeshInfo& info) {
   // A closed surface is required only where there are no tets to bound the volume: an open
   // instrument surface is still a usable collision mesh, so openness is a warning there.
   const ValidationReport report = validate_surface(data, /*require_closed=*/false);
@@ -54,13 +62,22 @@ void inspect_triangles(const MeshData& data, MeshInfo& info) {
     return;
   }
   info.surface = surface_topology(data.triangles, info.vertices);
-  if (info.tetrahedra == 0) {
-    info.edges = static_cast<int>(unique_edges(data.triangles).cols());
-  }
+  info.edges = static_cast<int>(unique_edges(data.triangles).cols());
   const TriMesh surface{data.vertices, data.triangles};
   info.surface_area = surface_area(surface);
-  if (info.tetrahedra == 0 && info.surface.closed_manifold() && info.surface.oriented()) {
-    info.volume = enclosed_volume(surface);
+  if (!info.surface.closed_manifold() || !info.surface.oriented()) {
+    return;
+  }
+  info.volume = enclosed_volume(surface);
+  if (*info.volume < 0.0) {
+    info.problems.push_back(
+        {MeshProblem::Severity::kWarning,
+         "surface: oriented inward (enclosed volume < 0); loaders for simulation flip it"});
+  }
+  if (info.surface.components > 1) {
+    info.problems.push_back(
+        {MeshProblem::Severity::kWarning,
+         "surface: " + std::to_string(info.surface.components) + " separate components"});
   }
 }
 
@@ -96,8 +113,10 @@ MeshInfo inspect_mesh(const MeshData& data) {
   if (info.tetrahedra > 0) {
     inspect_tets(data, info);
   }
-  if (data.triangles.cols() > 0) {
-    inspect_triangles(data, info);
+  if (data.triangles.cols() > 0 && info.tetrahedra > 0) {
+    inspect_boundary_elements(data, info);
+  } else if (data.triangles.cols() > 0) {
+    inspect_surface(data, info);
   }
   return info;
 }

@@ -84,6 +84,24 @@ MeshData read_output(const tetgenio& output) {
   return mesh;
 }
 
+// TetGen 1.5 crashes in its own clean-up (a double free in freememory on the error path) when it
+// meets a self-intersecting surface, so intersections are looked for first with -d, which
+// reports the offending triangles and returns normally.
+void reject_self_intersections(const TriMesh& surface) {
+  tetgenio input;
+  tetgenio output;
+  fill_input(surface, input);
+  char switches[] = "pdzQ";
+  ::tetrahedralize(switches, &input, &output);
+  if (output.numberoftrifaces > 0) {
+    throw InputError(
+        "tetrahedralize: the surface intersects itself (" + std::to_string(output.numberoftrifaces)
+        + " triangles involved, e.g. at vertices " + std::to_string(output.trifacelist[0]) + " "
+        + std::to_string(output.trifacelist[1]) + " " + std::to_string(output.trifacelist[2])
+        + "); remesh it (--surface-vertices) or repair it first");
+  }
+}
+
 }  // namespace
 
 MeshData tetrahedralize(const TriMesh& surface, const TetrahedralizeOptions& options) {
@@ -95,6 +113,7 @@ MeshData tetrahedralize(const TriMesh& surface, const TetrahedralizeOptions& opt
   if (options.max_volume < 0.0) {
     throw InputError("tetrahedralize: max volume must be >= 0");
   }
+  reject_self_intersections(surface);
   tetgenio input;
   tetgenio output;
   fill_input(surface, input);

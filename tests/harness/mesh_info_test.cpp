@@ -59,6 +59,32 @@ TEST(MeshInfo, ReportsAnOpenSurfaceAsAWarningAndKeepsItUsable) {
   EXPECT_EQ(info.problems.front().severity, MeshProblem::Severity::kWarning);
 }
 
+TEST(MeshInfo, WarnsAboutAnInwardSurfaceAndSeparateComponents) {
+  MeshData inward = test::cube_surface();
+  inward.triangles.row(1).swap(inward.triangles.row(2));
+  const MeshInfo info = inspect_mesh(inward);
+  ASSERT_TRUE(info.volume.has_value());
+  EXPECT_NEAR(*info.volume, -1.0, test::kRoundoff);
+  EXPECT_TRUE(info.usable());
+  EXPECT_THAT(to_text(info), HasSubstr("warning: surface: oriented inward"));
+
+  MeshData two = test::cube_surface();
+  two.vertices.conservativeResize(3, 16);
+  two.vertices.rightCols(8) = two.vertices.leftCols(8).array() + 2.0;
+  two.triangles.conservativeResize(3, 24);
+  two.triangles.rightCols(12) = two.triangles.leftCols(12).array() + 8;
+  EXPECT_THAT(to_text(inspect_mesh(two)), HasSubstr("warning: surface: 2 separate components"));
+}
+
+TEST(MeshInfo, IgnoresInteriorVerticesWhenTetsComeWithBoundaryTriangles) {
+  MeshData gmsh_like = test::box_tets(2, 2, 2);
+  gmsh_like.triangles = boundary_triangles(gmsh_like.tetrahedra);
+  const MeshInfo info = inspect_mesh(gmsh_like);
+  EXPECT_TRUE(info.problems.empty());  // the centre vertex is on no triangle, rightly
+  EXPECT_FALSE(info.triangles_from_boundary);
+  EXPECT_TRUE(info.surface.closed_manifold());
+}
+
 TEST(MeshInfo, MarksANonFiniteCoordinateAsAnError) {
   MeshData bad = test::single_tet();
   bad.vertices(1, 2) = std::numeric_limits<double>::quiet_NaN();

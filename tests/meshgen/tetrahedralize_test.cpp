@@ -77,6 +77,22 @@ TEST(Tetrahedralize, RejectsAnUnreachableQualityBound) {
   EXPECT_THROW(tetrahedralize(cube(), options), InputError);
 }
 
+TEST(Tetrahedralize, RejectsASelfIntersectingSurfaceWithoutCrashing) {
+  // Two unit cubes overlapping by half: closed and manifold, but each cuts through the other.
+  const TriMesh first = cube();
+  TriMesh both;
+  both.vertices.resize(3, 2 * first.num_vertices());
+  both.vertices << first.vertices, (first.vertices.colwise() + Eigen::Vector3d(0.5, 0.5, 0.5));
+  both.triangles.resize(3, 2 * first.num_triangles());
+  both.triangles << first.triangles, (first.triangles.array() + first.num_vertices()).matrix();
+  try {
+    tetrahedralize(both, {});
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("intersects itself"));
+  }
+}
+
 TEST(SimplifySurface, ReachesTheTargetAndKeepsAClosedSurfaceAndItsVolume) {
   const TriMesh sphere = sphere_surface(1.0, 0.05);
   ASSERT_GT(sphere.num_vertices(), 3000);
