@@ -4,6 +4,7 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
+#include "geometry/text_format.h"
 
 #include <Eigen/Geometry>
 
@@ -78,14 +79,6 @@ class ProblemLog {
   ValidationReport& report_;
   std::vector<Tally> tallies_;  // in order of first appearance, so the summary is deterministic
 };
-
-// Two significant digits tell "tiny" from "small", which is all a message needs.
-std::string format_number(double value, int significant_digits = 2) {
-  std::ostringstream out;
-  out.precision(significant_digits);
-  out << value;
-  return out.str();
-}
 
 std::string format_point(const Eigen::Vector3d& x) {
   std::ostringstream out;
@@ -237,12 +230,12 @@ ValidationReport check_tets(const MeshData& data, const TetPolicy& policy) {
     // Written to catch a NaN quality too (overflowing coordinates).
     if (!(quality >= kDegenerateTetQuality)) {
       log.add("degenerate tets", Severity::kError, [&] {
-        return element("tet", t) + ": zero or near-zero volume (quality " + format_number(quality)
-               + ", vertices " + format_indices(tet) + ")";
+        return element("tet", t) + ": zero or near-zero volume (quality "
+               + format_number(quality, 2) + ", vertices " + format_indices(tet) + ")";
       });
     } else if (volume < 0.0) {
       log.add("inverted tets", Severity::kWarning, [&] {
-        return element("tet", t) + ": inverted (negative volume " + format_number(volume) + ")"
+        return element("tet", t) + ": inverted (negative volume " + format_number(volume, 2) + ")"
                + policy.inverted_note;
       });
     }
@@ -455,7 +448,7 @@ ValidationReport validate_surface(const MeshData& data, bool require_closed) {
     if (!(quality >= kDegenerateTriangleQuality)) {
       log.add("zero-area triangles", Severity::kWarning, [&] {
         return element("triangle", t) + ": zero or near-zero area (quality "
-               + format_number(quality) + ", vertices " + format_indices(tri) + ")";
+               + format_number(quality, 2) + ", vertices " + format_indices(tri) + ")";
       });
     }
   }
@@ -482,8 +475,8 @@ TriMesh make_closed_surface(const MeshData& data) {
   const double area = surface_area(surface);
   if (!(std::abs(volume) > kFlatSurfaceVolumeFraction * std::pow(area, 1.5))) {
     throw InputError(with_source(data.source, "surface: encloses no volume (volume "
-                                                  + format_number(volume) + ", area "
-                                                  + format_number(area) + ")"));
+                                                  + format_number(volume, 2) + ", area "
+                                                  + format_number(area, 2) + ")"));
   }
   if (volume < 0.0) {
     surface.triangles.row(1).swap(surface.triangles.row(2));

@@ -2,6 +2,7 @@
 #include "models/json_reader.h"
 
 #include "geometry/input_error.h"
+#include "geometry/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,12 +11,6 @@
 
 namespace softbench {
 namespace {
-
-std::string format_bound(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
 
 std::string shown(const nlohmann::json& value) {
   std::string text = value.dump();
@@ -41,14 +36,14 @@ std::string Range::describe() const {
   const bool has_min = std::isfinite(min);
   const bool has_max = std::isfinite(max);
   if (has_min && has_max) {
-    return "a number in " + std::string(min_inclusive ? "[" : "(") + format_bound(min) + ", "
-           + format_bound(max) + (max_inclusive ? "]" : ")");
+    return "a number in " + std::string(min_inclusive ? "[" : "(") + format_number(min) + ", "
+           + format_number(max) + (max_inclusive ? "]" : ")");
   }
   if (has_min) {
-    return "a number " + std::string(min_inclusive ? ">= " : "> ") + format_bound(min);
+    return "a number " + std::string(min_inclusive ? ">= " : "> ") + format_number(min);
   }
   if (has_max) {
-    return "a number " + std::string(max_inclusive ? "<= " : "< ") + format_bound(max);
+    return "a number " + std::string(max_inclusive ? "<= " : "< ") + format_number(max);
   }
   return "a finite number";
 }

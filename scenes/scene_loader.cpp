@@ -3,6 +3,7 @@
 // check goes through JsonReader so each message reads `<file>: <json pointer>: expected ...,
 // got ...`.
 #include "geometry/input_error.h"
+#include "geometry/text_format.h"
 #include "models/json_reader.h"
 #include "models/material.h"
 #include "scenes/scene.h"
@@ -29,19 +30,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr double kDefaultTimeStep = 1.0 / 60.0;  // s: the thesis's frame rate
-
-std::string format_number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-
-// Streamed rather than concatenated: GCC 12 -O3 warns falsely (-Wrestrict) on "[" + string.
-std::string format_vector(const Eigen::Vector3d& value) {
-  std::ostringstream out;
-  out << '[' << value.x() << ", " << value.y() << ", " << value.z() << ']';
-  return out.str();
-}
 
 nlohmann::json vector_json(const Eigen::Vector3d& value) {
   return nlohmann::json::array({value.x(), value.y(), value.z()});

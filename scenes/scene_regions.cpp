@@ -4,6 +4,7 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
+#include "geometry/text_format.h"
 
 #include <Eigen/Core>
 
@@ -17,19 +18,6 @@
 
 namespace softbench::scenes {
 namespace {
-
-std::string format_number(double value) {
-  std::ostringstream out;
-  out << value;
-  return out.str();
-}
-
-// Streamed rather than concatenated: GCC 12 -O3 warns falsely (-Wrestrict) on "[" + string.
-std::string format_vector(const Eigen::Vector3d& value) {
-  std::ostringstream out;
-  out << '[' << value.x() << ", " << value.y() << ", " << value.z() << ']';
-  return out.str();
-}
 
 bool inside(const Box& box, const Eigen::Vector3d& point) {
   return (point.array() >= box.min.array()).all() && (point.array() <= box.max.array()).all();
