@@ -2,6 +2,7 @@
 // softbench: the command line. Bad input exits 2 with one line naming the file and the problem;
 // any other failure exits 1.
 #include "geometry/input_error.h"
+#include "harness/calibrate_command.h"
 #include "harness/mesh_commands.h"
 #include "harness/run_commands.h"
 
@@ -17,6 +18,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   softbench::harness::add_mesh_commands(app);
   softbench::harness::add_run_commands(app);
+  softbench::harness::add_calibrate_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -1,14 +1,25 @@
 // SPDX-License-Identifier: MIT
 // The one list of models: adding a model = its folder + one line here.
+#include "models/corotational_fem/corotational_fem.h"
 #include "models/mass_spring/mass_spring.h"
 #include "models/model_registry.h"
+#include "models/shape_matching/shape_matching.h"
+#if SOFTBENCH_WITH_BULLET
+#include "models/bullet/bullet_soft_body.h"
+#endif
 
 namespace softbench {
 namespace {
 
 ModelRegistry make_builtin_registry() {
   ModelRegistry registry;
+  registry.add(corotational_fem_info());
   registry.add(mass_spring_info());
+  registry.add(shape_matching_info());
+#if SOFTBENCH_WITH_BULLET
+  registry.add(bullet_deformable_info());
+  registry.add(bullet_softbody_info());
+#endif
   return registry;
 }
 

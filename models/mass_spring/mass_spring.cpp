@@ -67,7 +67,8 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh,
       num_vertices_(mesh.num_vertices()),
       springs_(unique_edges(mesh.tets())),
       masses_(lumped_masses(mesh, material.density)),
-      rest_positions_(mesh.rest_positions()) {
+      rest_positions_(mesh.rest_positions()),
+      constraints_(mesh.num_vertices()) {
   const Eigen::Index num_springs = springs_.cols();
   rest_lengths_.resize(num_springs);
   for (Eigen::Index e = 0; e < num_springs; ++e) {
@@ -101,14 +102,18 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh,
   }
 
   spring_forces_.resize(3, num_springs);
-  constraint_index_.assign(static_cast<std::size_t>(num_vertices_), -1);
   if (params_.integrator == MassSpringParams::Integrator::kImplicitEuler) {
     spring_rhs_.resize(3, num_springs);
     spring_blocks_.resize(9, num_springs);
-    vertex_blocks_.resize(9, num_vertices_);
-    rhs_before_elimination_.resize(3, num_vertices_);
+    known_changes_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
     pattern_ = std::make_unique<BlockPattern>(num_vertices_, springs_);
-    solver_ = make_system_solver(params_, pattern_->matrix());
+    LinearSolverOptions options;
+    options.kind = params_.solver == MassSpringParams::LinearSolver::kCholmod
+                       ? LinearSolverOptions::Kind::kCholmod
+                       : LinearSolverOptions::Kind::kConjugateGradient;
+    options.tolerance = params_.cg_tolerance;
+    options.max_iterations = params_.cg_max_iterations;
+    solver_ = make_system_solver(options, *pattern_);
     rhs_.resize(3 * static_cast<Eigen::Index>(num_vertices_));
   }
   reset();
@@ -138,16 +143,15 @@ double MassSpringModel::elastic_energy() const {
 }
 
 std::size_t MassSpringModel::memory_bytes() const {
-  std::size_t bytes =
-      bytes_of(springs_) + bytes_of(rest_lengths_) + bytes_of(spring_stiffness_) + bytes_of(masses_)
-      + bytes_of(rest_positions_) + bytes_of(positions_) + bytes_of(velocities_)
-      + bytes_of(constraint_forces_) + bytes_of(spring_forces_) + bytes_of(spring_rhs_)
-      + bytes_of(spring_blocks_) + bytes_of(vertex_blocks_) + bytes_of(rhs_before_elimination_)
-      + bytes_of(rhs_) + bytes_of(velocity_change_)
-      + (incident_offsets_.size() + incident_springs_.size() + constraint_index_.size())
-            * sizeof(int);
+  std::size_t bytes = bytes_of(springs_) + bytes_of(rest_lengths_) + bytes_of(spring_stiffness_)
+                      + bytes_of(masses_) + bytes_of(rest_positions_) + bytes_of(positions_)
+                      + bytes_of(velocities_) + bytes_of(constraint_forces_)
+                      + bytes_of(spring_forces_) + bytes_of(spring_rhs_) + bytes_of(spring_blocks_)
+                      + bytes_of(known_changes_) + bytes_of(rhs_) + bytes_of(velocity_change_)
+                      + (incident_offsets_.size() + incident_springs_.size()) * sizeof(int)
+                      + constraints_.memory_bytes();
   if (pattern_ != nullptr) {
-    bytes += pattern_->memory_bytes() + solver_->memory_bytes();
+    bytes += pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes();
   }
   return bytes;
 }

@@ -2,15 +2,15 @@
 #pragma once
 
 #include "geometry/tet_mesh.h"
-#include "models/mass_spring/block_pattern.h"
+#include "models/block_pattern.h"
+#include "models/implicit_system.h"
 #include "models/mass_spring/mass_spring.h"
-#include "models/mass_spring/system_solver.h"
 #include "models/param_table.h"
+#include "models/system_solver.h"
 
 #include <Eigen/Core>
 
 #include <memory>
-#include <span>
 #include <vector>
 
 namespace softbench::mass_spring {
@@ -41,12 +41,6 @@ class MassSpringModel final : public SoftBody {
   std::size_t memory_bytes() const override;
 
  private:
-  /// The constraint acting on each vertex this step (index into the step's list, or -1).
-  void bind_constraints(std::span<const PositionConstraint> constraints);
-  void unbind_constraints(std::span<const PositionConstraint> constraints);
-  const PositionConstraint* constraint_of(int vertex,
-                                          std::span<const PositionConstraint> constraints) const;
-
   /// Per spring: elastic + dashpot force on its first vertex (the second gets the opposite).
   void compute_spring_forces();
   /// Per spring, for backward Euler: the force plus dt K_e (v_i - v_j), and the block
@@ -62,11 +56,11 @@ class MassSpringModel final : public SoftBody {
   /// Assembles A and b of (M - dt D - dt^2 K) dv = dt (f + dt K v) into the fixed pattern.
   void assemble_implicit_system(double dt, const StepInput& input);
   /// Moves the known dv of exactly constrained vertices to the right-hand side and makes their
-  /// rows and columns identity (values only: the pattern keeps its explicit zeros).
-  void eliminate_exact_constraints(double dt, const StepInput& input);
+  /// rows and columns identity (ConstraintElimination).
+  void eliminate_exact_constraints(double dt);
   /// (A dv - b)_c / dt with the unmodified rows of every exactly constrained vertex.
-  void compute_implicit_reactions(double dt, const StepInput& input);
-  StepStats finish_step(const StepInput& input) const;
+  void compute_implicit_reactions(double dt);
+  StepStats finish_step() const;
 
   MassSpringParams params_;
   int num_vertices_ = 0;
@@ -91,14 +85,13 @@ class MassSpringModel final : public SoftBody {
   Eigen::Matrix3Xd spring_forces_;  ///< 3 x #springs, on the first vertex
   Eigen::Matrix3Xd spring_rhs_;     ///< 3 x #springs, f_e + dt K_e (v_i - v_j)
   Eigen::Matrix<double, 9, Eigen::Dynamic> spring_blocks_;  ///< 3x3 blocks, column-major
-  Eigen::Matrix<double, 9, Eigen::Dynamic>
-      vertex_blocks_;                        ///< A's diagonal blocks before elimination
-  Eigen::Matrix3Xd rhs_before_elimination_;  ///< b at exactly constrained vertices
-  std::vector<int> constraint_index_;        ///< per vertex, into the step's constraints; -1 none
+  VertexConstraints constraints_;                           ///< bound for the duration of one step
 
   // Implicit Euler only.
   std::unique_ptr<BlockPattern> pattern_;
   std::unique_ptr<SystemSolver> solver_;
+  ConstraintElimination elimination_;
+  Eigen::Matrix3Xd known_changes_;  ///< dv at exactly constrained vertices (3 x #V)
   Eigen::VectorXd rhs_;
   Eigen::VectorXd velocity_change_;  ///< dv; the previous step's warm-starts CG
 };

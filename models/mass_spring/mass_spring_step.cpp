@@ -15,14 +15,6 @@ constexpr Eigen::Index kParallelThreshold = 4096;
 using ConstBlock = Eigen::Map<const Eigen::Matrix3d>;
 using Block = Eigen::Map<Eigen::Matrix3d>;
 
-bool is_exact(const PositionConstraint* constraint) {
-  return constraint != nullptr && constraint->stiffness == kExact;
-}
-
-bool is_penalty(const PositionConstraint* constraint) {
-  return constraint != nullptr && constraint->stiffness != kExact;
-}
-
 /// A spring's current length and unit direction from its first vertex to its second.
 struct SpringGeometry {
   double length = 0.0;
@@ -53,36 +45,12 @@ Eigen::Vector3d spring_force(double stiffness,
 
 }  // namespace
 
-void MassSpringModel::bind_constraints(std::span<const PositionConstraint> constraints) {
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
-    const int vertex = constraints[k].vertex;
-    // An out-of-range vertex is ignored rather than thrown: step() never throws.
-    if (vertex >= 0 && vertex < num_vertices_) {
-      constraint_index_[static_cast<std::size_t>(vertex)] = static_cast<int>(k);
-    }
-  }
-}
-
-void MassSpringModel::unbind_constraints(std::span<const PositionConstraint> constraints) {
-  for (const PositionConstraint& constraint : constraints) {
-    if (constraint.vertex >= 0 && constraint.vertex < num_vertices_) {
-      constraint_index_[static_cast<std::size_t>(constraint.vertex)] = -1;
-    }
-  }
-}
-
-const PositionConstraint* MassSpringModel::constraint_of(
-    int vertex, std::span<const PositionConstraint> constraints) const {
-  const int index = constraint_index_[static_cast<std::size_t>(vertex)];
-  return index < 0 ? nullptr : &constraints[static_cast<std::size_t>(index)];
-}
-
 StepStats MassSpringModel::step(double dt, const StepInput& input) {
-  bind_constraints(input.constraints);
+  constraints_.bind(input.constraints);
   const StepStats stats = params_.integrator == MassSpringParams::Integrator::kSymplecticEuler
                               ? step_symplectic(dt, input)
                               : step_implicit(dt, input);
-  unbind_constraints(input.constraints);
+  constraints_.unbind();
   return stats;
 }
 
@@ -142,7 +110,7 @@ StepStats MassSpringModel::step_symplectic(double dt, const StepInput& input) {
   compute_spring_forces();
 #pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
   for (int v = 0; v < num_vertices_; ++v) {
-    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    const PositionConstraint* constraint = constraints_.of(v);
     Eigen::Vector3d force = vertex_force(v, input, constraint);
     for (int k = incident_offsets_[static_cast<std::size_t>(v)];
          k < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
@@ -167,13 +135,13 @@ StepStats MassSpringModel::step_symplectic(double dt, const StepInput& input) {
     velocities_.col(v) += (dt / mass) * force;
     positions_.col(v) += dt * velocities_.col(v);
   }
-  return finish_step(input);
+  return finish_step();
 }
 
 void MassSpringModel::assemble_implicit_system(double dt, const StepInput& input) {
 #pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
   for (int v = 0; v < num_vertices_; ++v) {
-    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    const PositionConstraint* constraint = constraints_.of(v);
     const double mass = masses_(v);
     // M - dt D for the mass damping D = -c_m m I.
     Eigen::Matrix3d block =
@@ -190,7 +158,6 @@ void MassSpringModel::assemble_implicit_system(double dt, const StepInput& input
       force += springs_(0, e) == v ? spring_rhs_.col(e) : Eigen::Vector3d(-spring_rhs_.col(e));
       block += ConstBlock(spring_blocks_.col(e).data());
     }
-    Block(vertex_blocks_.col(v).data()) = block;
     pattern_->set(pattern_->vertex_block(v), block);
     rhs_.segment<3>(3 * v) = dt * force;
   }
@@ -204,77 +171,39 @@ void MassSpringModel::assemble_implicit_system(double dt, const StepInput& input
   }
 }
 
-void MassSpringModel::eliminate_exact_constraints(double dt, const StepInput& input) {
-  const std::span<const PositionConstraint> constraints = input.constraints;
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
-    const int v = constraints[k].vertex;
-    if (v < 0 || v >= num_vertices_
-        || constraint_index_[static_cast<std::size_t>(v)] != static_cast<int>(k)
-        || !is_exact(&constraints[k])) {
-      continue;  // out of range, overridden by a later constraint on the same vertex, or penalty
-    }
-    const Eigen::Vector3d known_change =
-        (constraints[k].target - positions_.col(v)) / dt - velocities_.col(v);
-    rhs_before_elimination_.col(v) = rhs_.segment<3>(3 * v);
-    for (int n = incident_offsets_[static_cast<std::size_t>(v)];
-         n < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++n) {
-      const int e = incident_springs_[static_cast<std::size_t>(n)];
-      const int other = springs_(0, e) + springs_(1, e) - v;
-      if (!is_exact(constraint_of(other, constraints))) {
-        // b_o -= A_oc dv_c with A_oc = -B_e.
-        rhs_.segment<3>(3 * other) += ConstBlock(spring_blocks_.col(e).data()) * known_change;
-      }
-      pattern_->set(pattern_->edge_block(e), Eigen::Matrix3d::Zero());
-      pattern_->set(pattern_->edge_block_transposed(e), Eigen::Matrix3d::Zero());
-    }
-    pattern_->set(pattern_->vertex_block(v), Eigen::Matrix3d::Identity());
-    velocity_change_.segment<3>(3 * v) = known_change;  // also CG's guess there
+void MassSpringModel::eliminate_exact_constraints(double dt) {
+  for (const int v : constraints_.exact_vertices()) {
+    known_changes_.col(v) =
+        (constraints_.of(v)->target - positions_.col(v)) / dt - velocities_.col(v);
   }
-  // Only now: a constrained vertex's b must stay intact until its own row was saved above.
-  for (const PositionConstraint& constraint : constraints) {
-    const int v = constraint.vertex;
-    if (v >= 0 && v < num_vertices_ && is_exact(constraint_of(v, constraints))) {
-      rhs_.segment<3>(3 * v) = velocity_change_.segment<3>(3 * v);
-    }
-  }
+  elimination_.eliminate(*pattern_, constraints_, known_changes_, rhs_, velocity_change_);
 }
 
-void MassSpringModel::compute_implicit_reactions(double dt, const StepInput& input) {
+void MassSpringModel::compute_implicit_reactions(double dt) {
   constraint_forces_.setZero();
-  for (const PositionConstraint& listed : input.constraints) {
-    const int v = listed.vertex;
-    if (v < 0 || v >= num_vertices_) {
-      continue;
-    }
-    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+  for (const int v : constraints_.vertices()) {
+    const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
       // The backward Euler penalty force, evaluated at the end of the step.
       constraint_forces_.col(v) = constraint->stiffness * (constraint->target - positions_.col(v));
-      continue;
     }
-    // (A dv - b)_v with the row as assembled: mass, damping, elastic and gravity terms.
-    Eigen::Vector3d row =
-        ConstBlock(vertex_blocks_.col(v).data()) * velocity_change_.segment<3>(3 * v)
-        - rhs_before_elimination_.col(v);
-    for (int n = incident_offsets_[static_cast<std::size_t>(v)];
-         n < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++n) {
-      const int e = incident_springs_[static_cast<std::size_t>(n)];
-      const int other = springs_(0, e) + springs_(1, e) - v;
-      row -= ConstBlock(spring_blocks_.col(e).data()) * velocity_change_.segment<3>(3 * other);
-    }
-    constraint_forces_.col(v) = row / dt;
+  }
+  // (A dv - b)_c with the rows as assembled: mass, damping, elastic and gravity terms.
+  elimination_.constrained_residuals(*pattern_, velocity_change_, constraint_forces_);
+  for (const int v : constraints_.exact_vertices()) {
+    constraint_forces_.col(v) /= dt;
   }
 }
 
 StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
   compute_spring_linearization(dt);
   assemble_implicit_system(dt, input);
-  eliminate_exact_constraints(dt, input);
-  const SolveReport report = solver_->solve(pattern_->matrix(), rhs_, velocity_change_);
+  eliminate_exact_constraints(dt);
+  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_);
 
 #pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
   for (int v = 0; v < num_vertices_; ++v) {
-    const PositionConstraint* constraint = constraint_of(v, input.constraints);
+    const PositionConstraint* constraint = constraints_.of(v);
     if (is_exact(constraint)) {
       // Exactly on the target, whatever the solver's accuracy on the identity rows.
       const Eigen::Vector3d new_velocity = (constraint->target - positions_.col(v)) / dt;
@@ -286,9 +215,9 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
       positions_.col(v) += dt * velocities_.col(v);
     }
   }
-  compute_implicit_reactions(dt, input);
+  compute_implicit_reactions(dt);
 
-  StepStats stats = finish_step(input);
+  StepStats stats = finish_step();
   stats.iterations = report.iterations;
   stats.residual = report.residual;
   stats.factorizations = report.factorizations;
@@ -297,16 +226,13 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
   return stats;
 }
 
-StepStats MassSpringModel::finish_step(const StepInput& input) const {
+StepStats MassSpringModel::finish_step() const {
   StepStats stats;
-  for (const PositionConstraint& listed : input.constraints) {
-    if (listed.vertex >= 0 && listed.vertex < num_vertices_) {
-      const PositionConstraint* constraint = constraint_of(listed.vertex, input.constraints);
-      if (is_penalty(constraint)) {
-        stats.max_constraint_error =
-            std::max(stats.max_constraint_error,
-                     (positions_.col(listed.vertex) - constraint->target).norm());
-      }
+  for (const int v : constraints_.vertices()) {
+    const PositionConstraint* constraint = constraints_.of(v);
+    if (is_penalty(constraint)) {
+      stats.max_constraint_error =
+          std::max(stats.max_constraint_error, (positions_.col(v) - constraint->target).norm());
     }
   }
   stats.finite = positions_.allFinite() && velocities_.allFinite();

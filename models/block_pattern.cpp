@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: MIT
+#include "models/block_pattern.h"
+
+#include <algorithm>
+
+namespace softbench {
+
+BlockPattern::BlockPattern(int num_vertices, const Eigen::Matrix2Xi& edges)
+    : num_vertices_(num_vertices) {
+  // Every vertex's block columns: itself and its edge neighbours, sorted.
+  std::vector<std::vector<int>> lists(static_cast<std::size_t>(num_vertices));
+  for (int v = 0; v < num_vertices; ++v) {
+    lists[static_cast<std::size_t>(v)].push_back(v);
+  }
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    lists[static_cast<std::size_t>(edges(0, e))].push_back(edges(1, e));
+    lists[static_cast<std::size_t>(edges(1, e))].push_back(edges(0, e));
+  }
+  neighbour_offsets_.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
+  for (int v = 0; v < num_vertices; ++v) {
+    auto& list = lists[static_cast<std::size_t>(v)];
+    std::sort(list.begin(), list.end());
+    neighbour_offsets_[static_cast<std::size_t>(v) + 1] =
+        neighbour_offsets_[static_cast<std::size_t>(v)] + static_cast<int>(list.size());
+  }
+  neighbours_.reserve(static_cast<std::size_t>(neighbour_offsets_.back()));
+  for (const auto& list : lists) {
+    neighbours_.insert(neighbours_.end(), list.begin(), list.end());
+  }
+  mirror_slots_.resize(neighbours_.size());
+  for (int v = 0; v < num_vertices; ++v) {
+    for (int k = neighbour_offsets_[static_cast<std::size_t>(v)];
+         k < neighbour_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
+      const auto& other = lists[static_cast<std::size_t>(neighbours_[static_cast<std::size_t>(k)])];
+      mirror_slots_[static_cast<std::size_t>(k)] =
+          static_cast<int>(std::lower_bound(other.begin(), other.end(), v) - other.begin());
+    }
+  }
+
+  const Eigen::Index size = 3 * static_cast<Eigen::Index>(num_vertices);
+  matrix_.resize(size, size);
+  Eigen::VectorXi entries_per_column(size);
+  for (int v = 0; v < num_vertices; ++v) {
+    const int count = 3 * static_cast<int>(lists[static_cast<std::size_t>(v)].size());
+    entries_per_column.segment<3>(3 * v).setConstant(count);
+  }
+  matrix_.reserve(entries_per_column);
+  // Column by column with rows increasing: insertion never moves an entry.
+  for (int column_vertex = 0; column_vertex < num_vertices; ++column_vertex) {
+    for (int b = 0; b < 3; ++b) {
+      for (const int row_vertex : lists[static_cast<std::size_t>(column_vertex)]) {
+        for (int a = 0; a < 3; ++a) {
+          matrix_.insert(3 * row_vertex + a, 3 * column_vertex + b) = 0.0;
+        }
+      }
+    }
+  }
+  matrix_.makeCompressed();
+
+  // Entry (row, column) by binary search in its column: done once here, never per step.
+  const auto entry_index = [this](int row, int column) {
+    const int* begin = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[column];
+    const int* end = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[column + 1];
+    return static_cast<int>(std::lower_bound(begin, end, row) - matrix_.innerIndexPtr());
+  };
+  const auto block_entries = [&entry_index](int row_vertex, int column_vertex) {
+    BlockEntries where{};
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) {
+        where[static_cast<std::size_t>(3 * a + b)] =
+            entry_index(3 * row_vertex + a, 3 * column_vertex + b);
+      }
+    }
+    return where;
+  };
+  vertex_blocks_.reserve(static_cast<std::size_t>(num_vertices));
+  for (int v = 0; v < num_vertices; ++v) {
+    vertex_blocks_.push_back(block_entries(v, v));
+  }
+  edge_blocks_.reserve(static_cast<std::size_t>(edges.cols()));
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    edge_blocks_.push_back(
+        {block_entries(edges(0, e), edges(1, e)), block_entries(edges(1, e), edges(0, e))});
+  }
+}
+
+BlockEntries BlockPattern::column_block(int vertex, int slot) const {
+  const int degree = neighbour_offsets_[static_cast<std::size_t>(vertex) + 1]
+                     - neighbour_offsets_[static_cast<std::size_t>(vertex)];
+  const int base = matrix_.outerIndexPtr()[3 * vertex];
+  BlockEntries where{};
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      where[static_cast<std::size_t>(3 * a + b)] = base + 3 * degree * b + 3 * slot + a;
+    }
+  }
+  return where;
+}
+
+BlockEntries BlockPattern::row_block(int vertex, int slot) const {
+  // Block (vertex, n) lives in n's columns, at vertex's slot in n's list.
+  const int k = neighbour_offsets_[static_cast<std::size_t>(vertex)] + slot;
+  return column_block(neighbours_[static_cast<std::size_t>(k)],
+                      mirror_slots_[static_cast<std::size_t>(k)]);
+}
+
+Eigen::Matrix3d BlockPattern::get(const BlockEntries& where) const {
+  const double* values = matrix_.valuePtr();
+  Eigen::Matrix3d block;
+  for (int a = 0; a < 3; ++a) {
+    for (int b = 0; b < 3; ++b) {
+      block(a, b) = values[where[static_cast<std::size_t>(3 * a + b)]];
+    }
+  }
+  return block;
+}
+
+void BlockPattern::multiply(const Eigen::VectorXd& x,
+                            Eigen::VectorXd& y,
+                            std::span<double> chunk_dots) const {
+  // Vertices with at most this many neighbours (nearly all: ~15 in a tet mesh) gather their
+  // neighbours' x into a stack buffer, making each output a contiguous dot product that the
+  // compiler vectorises (omp simd: a fixed order, so still deterministic).
+  constexpr int kGatherDegree = 64;
+  const double* values = matrix_.valuePtr();
+  const int* outer = matrix_.outerIndexPtr();
+  const int* offsets = neighbour_offsets_.data();
+  const int* neighbours = neighbours_.data();
+  const double* in = x.data();
+  double* out = y.data();
+  const int chunks = num_chunks();
+  const bool want_dots = !chunk_dots.empty();
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
+  for (int chunk = 0; chunk < chunks; ++chunk) {
+    const int first = chunk * kChunkVertices;
+    const int last = std::min(num_vertices_, first + kChunkVertices);
+    double dot = 0.0;
+    double gathered[3 * kGatherDegree];
+    for (int c = first; c < last; ++c) {
+      const int begin = offsets[c];
+      const int degree = offsets[c + 1] - begin;
+      // The three columns of vertex c: strips of 3 values per neighbour, column after column.
+      const double* column0 = values + outer[3 * c];
+      const double* column1 = column0 + 3 * degree;
+      const double* column2 = column1 + 3 * degree;
+      double y0 = 0.0;
+      double y1 = 0.0;
+      double y2 = 0.0;
+      if (degree <= kGatherDegree) {
+        for (int slot = 0; slot < degree; ++slot) {
+          const double* xn = in + 3 * neighbours[begin + slot];
+          gathered[3 * slot] = xn[0];
+          gathered[3 * slot + 1] = xn[1];
+          gathered[3 * slot + 2] = xn[2];
+        }
+        const int length = 3 * degree;
+#pragma omp simd reduction(+ : y0, y1, y2)
+        for (int k = 0; k < length; ++k) {
+          y0 += column0[k] * gathered[k];
+          y1 += column1[k] * gathered[k];
+          y2 += column2[k] * gathered[k];
+        }
+      } else {
+        for (int slot = 0; slot < degree; ++slot) {
+          const double* xn = in + 3 * neighbours[begin + slot];
+          for (int a = 0; a < 3; ++a) {
+            y0 += column0[3 * slot + a] * xn[a];
+            y1 += column1[3 * slot + a] * xn[a];
+            y2 += column2[3 * slot + a] * xn[a];
+          }
+        }
+      }
+      out[3 * c] = y0;
+      out[3 * c + 1] = y1;
+      out[3 * c + 2] = y2;
+      dot += y0 * in[3 * c] + y1 * in[3 * c + 1] + y2 * in[3 * c + 2];
+    }
+    if (want_dots) {
+      chunk_dots[static_cast<std::size_t>(chunk)] = dot;
+    }
+  }
+}
+
+std::size_t BlockPattern::memory_bytes() const {
+  const auto nonzeros = static_cast<std::size_t>(matrix_.nonZeros());
+  return nonzeros * (sizeof(double) + sizeof(int))
+         + static_cast<std::size_t>(matrix_.outerSize() + 1) * sizeof(int)
+         + (neighbour_offsets_.size() + neighbours_.size() + mirror_slots_.size()) * sizeof(int)
+         + vertex_blocks_.size() * sizeof(BlockEntries)
+         + edge_blocks_.size() * 2 * sizeof(BlockEntries);
+}
+
+}  // namespace softbench

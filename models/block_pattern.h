@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <vector>
+
+namespace softbench {
+
+/// Where each entry of a 3x3 block sits in a sparse matrix's value array; entry (a, b) (row a,
+/// column b of the block) is at position 3 a + b.
+using BlockEntries = std::array<int, 9>;
+
+/// The fixed sparsity pattern of a symmetric 3N x 3N system with one 3x3 block per vertex (the
+/// diagonal) and two per edge (i, j): (i, j) and (j, i). Both triangles are stored so the same
+/// matrix serves a full sparse product (CG, residuals) and CHOLMOD (which reads the lower
+/// triangle only). Used by every implicit model (mass-spring, corotational FEM).
+///
+/// Built once: every step only overwrites values through the precomputed entry indices, so no
+/// step allocates, searches or changes the pattern (CHOLMOD's symbolic analysis stays valid).
+///
+/// Layout (what multiply() relies on): the matrix is column-major; the three columns of vertex c
+/// hold, for each neighbour n of c in increasing order (c itself included), the three rows of n
+/// consecutively. So block (n, c) is three strips of three values, one strip per column.
+class BlockPattern {
+ public:
+  /// `edges`: 2 x #E vertex pairs, each pair at most once, no self-loops.
+  BlockPattern(int num_vertices, const Eigen::Matrix2Xi& edges);
+
+  int num_vertices() const { return num_vertices_; }
+  Eigen::Index size() const { return 3 * static_cast<Eigen::Index>(num_vertices_); }
+
+  /// The matrix with the pattern; all values zero until written.
+  Eigen::SparseMatrix<double>& matrix() { return matrix_; }
+  const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
+
+  const BlockEntries& vertex_block(int vertex) const { return vertex_blocks_[vertex]; }
+  /// The block coupling the edge's first vertex (rows) to its second (columns).
+  const BlockEntries& edge_block(int edge) const { return edge_blocks_[edge][0]; }
+  /// The transposed position: second vertex (rows), first vertex (columns).
+  const BlockEntries& edge_block_transposed(int edge) const { return edge_blocks_[edge][1]; }
+
+  /// The vertices whose blocks share rows with `vertex` (its edge neighbours and itself),
+  /// increasing.
+  std::span<const int> neighbours(int vertex) const {
+    return {neighbours_.data() + neighbour_offsets_[vertex],
+            neighbours_.data() + neighbour_offsets_[vertex + 1]};
+  }
+  /// The entries of block (row vertex neighbours(vertex)[slot], column vertex `vertex`).
+  BlockEntries column_block(int vertex, int slot) const;
+  /// The entries of the mirrored block (row `vertex`, column vertex neighbours(vertex)[slot]).
+  BlockEntries row_block(int vertex, int slot) const;
+  /// The first of vertex's 9 * neighbours(vertex).size() values: its three columns, contiguous.
+  int column_values_begin(int vertex) const { return matrix_.outerIndexPtr()[3 * vertex]; }
+
+  /// Writes `block` (a 3x3 matrix) into the entries `where`.
+  template <class Block>
+  void set(const BlockEntries& where, const Block& block) {
+    double* values = matrix_.valuePtr();
+    for (int a = 0; a < 3; ++a) {
+      for (int b = 0; b < 3; ++b) {
+        values[where[3 * a + b]] = block(a, b);
+      }
+    }
+  }
+  Eigen::Matrix3d get(const BlockEntries& where) const;
+
+  /// y = A x (both of size()), from the columns of the symmetric matrix: row i of A is column i,
+  /// so each output entry is a gather over one contiguous column (three per vertex, sharing the
+  /// neighbour indices). Deterministic: each entry is summed in a fixed order whatever the thread
+  /// count. If `chunk_dots` is not empty (num_chunks() entries), entry k receives the part of
+  /// x . y over chunk k: summed in order by the caller, the dot product is independent of the
+  /// thread count too. Parallel (OpenMP, static) above kParallelVertices vertices.
+  void multiply(const Eigen::VectorXd& x,
+                Eigen::VectorXd& y,
+                std::span<double> chunk_dots = {}) const;
+
+  /// Deterministic reductions split the 3N entries into chunks of this many vertices
+  /// (multiply() and the CG vector loops).
+  static constexpr int kChunkVertices = 256;
+  /// Below this many vertices a product runs on one thread: a parallel region costs a few
+  /// microseconds, as much as the product of a ~1000-vertex matrix saves on two cores.
+  static constexpr int kParallelVertices = 2048;
+  int num_chunks() const { return (num_vertices_ + kChunkVertices - 1) / kChunkVertices; }
+
+  std::size_t memory_bytes() const;
+
+ private:
+  int num_vertices_ = 0;
+  Eigen::SparseMatrix<double> matrix_;
+  std::vector<int> neighbour_offsets_;  ///< #V + 1
+  std::vector<int> neighbours_;         ///< per vertex, sorted, itself included
+  std::vector<int> mirror_slots_;       ///< per neighbours_ entry (c, n): c's slot in n's list
+  std::vector<BlockEntries> vertex_blocks_;
+  std::vector<std::array<BlockEntries, 2>> edge_blocks_;
+};
+
+}  // namespace softbench

@@ -1,0 +1,211 @@
+// SPDX-License-Identifier: MIT
+// The two Bullet models' parameter tables (declared once: reading, echoing, documenting), their
+// registry entries and make functions.
+#include "models/bullet/bullet_body.h"
+#include "models/bullet/bullet_soft_body.h"
+#include "models/json_reader.h"
+#include "models/param_table.h"
+
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace softbench {
+namespace bullet {
+namespace {
+
+constexpr int kMaxCount = std::numeric_limits<int>::max();
+
+ParamTable<BulletSoftBodyParams> make_softbody_table() {
+  using Params = BulletSoftBodyParams;
+  ParamTable<Params> table;
+  table
+      .number("stiffness", &Params::stiffness, Range{0.0, 1.0, false, true},
+              "Bullet's link stiffness kLST in (0, 1], no unit: its effect depends on dt, "
+              "position_iterations and the mesh. Fit it with `softbench calibrate`.")
+      .integer("position_iterations", &Params::position_iterations, 1, kMaxCount,
+               "Bullet's piterations: link projections per step. More: stiffer, costlier "
+               "(linear).")
+      .number("damping", &Params::damping, Range::closed(0.0, 1.0),
+              "Bullet's kDP in [0, 1]: fraction of each velocity removed per step (depends on "
+              "dt). More: faster settling.")
+      .number("pose_matching", &Params::pose_matching, Range::closed(0.0, 1.0),
+              "Bullet's kMT in [0, 1]: pull toward the rest shape's best rigid placement per "
+              "step (per cluster when clusters > 0). Resists large deformation.")
+      .number("volume_conservation", &Params::volume_conservation, Range::non_negative(),
+              "Bullet's kVC >= 0: pressure keeping the closed surface's volume; 0 = off.")
+      .integer("clusters", &Params::clusters, 0, kMaxCount,
+               "k-means clusters, each matching its own rigid frame with pose_matching; 0 = "
+               "none. More: stiffer locally, costlier.");
+  return table;
+}
+
+ParamTable<BulletDeformableParams> make_deformable_table() {
+  using Params = BulletDeformableParams;
+  ParamTable<Params> table;
+  table
+      .choice("force", &Params::force,
+              {{"neo_hookean", Params::Force::kNeoHookean},
+               {"corotated", Params::Force::kCorotated},
+               {"mass_spring", Params::Force::kMassSpring}},
+              "Bullet's elastic force: \"neo_hookean\" (stable neo-Hookean from E, nu), "
+              "\"corotated\" (E, nu; explicit only in Bullet 3.24: set implicit false and a small "
+              "dt), \"mass_spring\" (spring_stiffness per edge).")
+      .choice(
+          "lame_mapping", &Params::lame_mapping,
+          {{"matched", Params::LameMapping::kMatched}, {"direct", Params::LameMapping::kDirect}},
+          "neo_hookean only. \"matched\": mu' = 4/3 mu, lambda' = lambda + 5/6 mu (Smith et "
+          "al. 2018): small strains follow the scene's E, nu; \"direct\": mu, lambda as "
+          "given (Bullet's demos), ~27% softer at nu 0.3.")
+      .boolean("implicit", &Params::implicit,
+               "true: backward Euler (stable at large dt, costs CG solves); false: symplectic "
+               "Euler, stable only below the CFL limit (~1 ms on the liver).")
+      .number("damping", &Params::damping, Range::non_negative(),
+              "s, neo_hookean only: damping stress d mu (dF + dF^T) + d lambda tr(dF) I. More: "
+              "faster settling, more CG iterations.")
+      .number("spring_stiffness", &Params::spring_stiffness, Range::non_negative(),
+              "N/m per edge, mass_spring only; 0 = young_modulus x mean edge length (k ~ E h).")
+      .number("spring_damping", &Params::spring_damping, Range::non_negative(),
+              "N s/m per edge, mass_spring only: dashpot along the edge.")
+      .number("cg_tolerance", &Params::cg_tolerance, Range{0.0, 1.0, false, false},
+              "Bullet's CG stops at r.z < cg_tolerance min(1, b.z0) (~ relative residual "
+              "squared). Bullet's double-build default, 2.2e-16, always runs to the cap.")
+      .integer("cg_max_iterations", &Params::cg_max_iterations, 1, kMaxCount,
+               "CG iterations per solve (Bullet: 300). Hitting it shows as iterations == cap x "
+               "linear_solves.")
+      .integer("newton_iterations", &Params::newton_iterations, 1, 100,
+               "implicit only: linearised solves per step (Bullet: 1). More: closer to the "
+               "nonlinear backward Euler step, one CG solve each.")
+      .boolean("line_search", &Params::line_search,
+               "implicit only: Bullet's backtracking line search. More robust at large dt, "
+               "costlier.");
+  return table;
+}
+
+const ParamTable<BulletSoftBodyParams>& softbody_table() {
+  static const ParamTable<BulletSoftBodyParams> table = make_softbody_table();
+  return table;
+}
+
+const ParamTable<BulletDeformableParams>& deformable_table() {
+  static const ParamTable<BulletDeformableParams> table = make_deformable_table();
+  return table;
+}
+
+constexpr const char* kCalibratedKey = "calibrated";
+
+/// The optional "calibrated" record is an object, which the table has no type for: it is read
+/// here and the rest of the block goes through the table.
+BulletSoftBodyParams read_softbody(const nlohmann::json& json,
+                                   const std::string& file,
+                                   const std::string& pointer) {
+  std::optional<BulletCalibration> calibrated;
+  nlohmann::json rest = json;
+  if (json.is_object() && json.contains(kCalibratedKey)) {
+    const nlohmann::json& record = json[kCalibratedKey];
+    if (!record.is_null()) {
+      const JsonReader block(json, file, pointer);
+      if (!record.is_object()) {
+        block.fail_expected(kCalibratedKey,
+                            "null or an object {\"against\": model, \"dt\": s, \"sag\": m}");
+      }
+      const JsonReader in = block.object(kCalibratedKey);
+      calibrated = BulletCalibration{in.string("against"), in.number("dt", Range::positive()),
+                                     in.number("sag")};
+      in.reject_unknown_keys();
+    }
+    rest.erase(kCalibratedKey);
+  }
+  BulletSoftBodyParams params = softbody_table().read(rest, file, pointer);
+  params.calibrated = std::move(calibrated);
+  return params;
+}
+
+nlohmann::json to_json(const BulletSoftBodyParams& params) {
+  nlohmann::json json = softbody_table().to_json(params);
+  json[kCalibratedKey] = nullptr;
+  if (params.calibrated) {
+    json[kCalibratedKey] = {{"against", params.calibrated->against},
+                            {"dt", params.calibrated->dt},
+                            {"sag", params.calibrated->sag}};
+  }
+  return json;
+}
+
+std::unique_ptr<SoftBody> make_softbody_body(const TetMesh& mesh,
+                                             const Material& material,
+                                             const BulletSoftBodyParams& params) {
+  return std::make_unique<BulletBody>(
+      "bullet_softbody", to_json(params), BulletMesh::from(mesh, material.density),
+      [params](const BulletMesh& loaded) { return make_softbody_world(loaded, params); });
+}
+
+std::unique_ptr<SoftBody> make_deformable_body(const TetMesh& mesh,
+                                               const Material& material,
+                                               const BulletDeformableParams& params) {
+  return std::make_unique<BulletBody>("bullet_deformable", deformable_table().to_json(params),
+                                      BulletMesh::from(mesh, material.density),
+                                      [material, params](const BulletMesh& loaded) {
+                                        return make_deformable_world(loaded, material, params);
+                                      });
+}
+
+}  // namespace
+}  // namespace bullet
+
+ModelInfo bullet_softbody_info() {
+  ModelInfo info;
+  info.name = "bullet_softbody";
+  info.summary =
+      "Bullet 3.24 btSoftBody: position-based links on the edges (kLST, no unit: calibrate "
+      "it), optional pose matching, volume conservation and clusters";
+  info.parameters = bullet::softbody_table().docs();
+  info.parameters.push_back(
+      {bullet::kCalibratedKey, nullptr,
+       "null, or {\"against\": model, \"dt\": s, \"sag\": m} as `softbench calibrate` prints "
+       "it: echoed so reports show the stiffness was fitted, and for which dt."});
+  info.create = [](const TetMesh& mesh, const Material& material, const nlohmann::json& params,
+                   const ParamSource& source) -> std::unique_ptr<SoftBody> {
+    const BulletSoftBodyParams parsed = bullet::read_softbody(params, source.file, source.pointer);
+    validate_material(material, source.file + ": /material");
+    return bullet::make_softbody_body(mesh, material, parsed);
+  };
+  return info;
+}
+
+ModelInfo bullet_deformable_info() {
+  ModelInfo info;
+  info.name = "bullet_deformable";
+  info.summary =
+      "Bullet 3.24 deformable world: stable neo-Hookean, corotated or mass-spring force from "
+      "the material; backward Euler with Bullet's CG, or symplectic Euler";
+  info.parameters = bullet::deformable_table().docs();
+  info.create = [](const TetMesh& mesh, const Material& material, const nlohmann::json& params,
+                   const ParamSource& source) -> std::unique_ptr<SoftBody> {
+    const BulletDeformableParams parsed =
+        bullet::deformable_table().read(params, source.file, source.pointer);
+    validate_material(material, source.file + ": /material");
+    return bullet::make_deformable_body(mesh, material, parsed);
+  };
+  return info;
+}
+
+std::unique_ptr<SoftBody> make_bullet_softbody(const TetMesh& mesh,
+                                               const Material& material,
+                                               const BulletSoftBodyParams& params) {
+  validate_material(material, "make_bullet_softbody: material");
+  // Round trip through the table: its ranges are the one statement of what is valid.
+  static_cast<void>(bullet::read_softbody(bullet::to_json(params), "make_bullet_softbody", ""));
+  return bullet::make_softbody_body(mesh, material, params);
+}
+
+std::unique_ptr<SoftBody> make_bullet_deformable(const TetMesh& mesh,
+                                                 const Material& material,
+                                                 const BulletDeformableParams& params) {
+  validate_material(material, "make_bullet_deformable: material");
+  static_cast<void>(bullet::deformable_table().read(bullet::deformable_table().to_json(params),
+                                                    "make_bullet_deformable", ""));
+  return bullet::make_deformable_body(mesh, material, params);
+}
+
+}  // namespace softbench

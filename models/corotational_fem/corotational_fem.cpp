@@ -1,0 +1,246 @@
+// SPDX-License-Identifier: MIT
+// The corotational FEM model: construction (all precomputation), state, energy, and the entry
+// points tests use. The step is in corotational_fem_step.cpp, the parameters in
+// corotational_fem_params.cpp.
+#include "models/corotational_fem/corotational_fem.h"
+
+#include "geometry/mesh_measures.h"
+#include "geometry/mesh_topology.h"
+#include "models/corotational_fem/corotational_fem_model.h"
+#include "models/corotational_fem/polar_decomposition.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+namespace softbench {
+namespace corotational_fem {
+namespace {
+
+template <class Vector>
+std::size_t bytes_of_elements(const Vector& vector) {
+  return vector.capacity() * sizeof(typename Vector::value_type);
+}
+
+template <class Matrix>
+std::size_t bytes_of(const Matrix& matrix) {
+  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
+}
+
+/// The 4 positions of tet t (columns).
+Matrix34d tet_positions(const Eigen::Matrix3Xd& positions, const Eigen::Matrix4Xi& tets, int t) {
+  Matrix34d x;
+  for (int a = 0; a < 4; ++a) {
+    x.col(a) = positions.col(tets(a, t));
+  }
+  return x;
+}
+
+/// CSR offsets from per-row counts.
+std::vector<int> offsets_from_counts(const std::vector<int>& counts) {
+  std::vector<int> offsets(counts.size() + 1, 0);
+  for (std::size_t k = 0; k < counts.size(); ++k) {
+    offsets[k + 1] = offsets[k] + counts[k];
+  }
+  return offsets;
+}
+
+LinearSolverOptions solver_options(const CorotationalFemParams& params) {
+  LinearSolverOptions options;
+  switch (params.solver) {
+    case CorotationalFemParams::LinearSolver::kCholmod:
+      options.kind = LinearSolverOptions::Kind::kCholmod;
+      break;
+    case CorotationalFemParams::LinearSolver::kConjugateGradient:
+      options.kind = LinearSolverOptions::Kind::kConjugateGradient;
+      break;
+    case CorotationalFemParams::LinearSolver::kCholeskyPcg:
+      options.kind = LinearSolverOptions::Kind::kCholeskyPcg;
+      break;
+  }
+  options.tolerance = params.cg_tolerance;
+  options.max_iterations = params.cg_max_iterations;
+  options.refresh_iterations = params.refresh_iterations;
+  return options;
+}
+
+}  // namespace
+
+CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
+                                           const Material& material,
+                                           const CorotationalFemParams& params)
+    : params_(params),
+      lame_(lame_parameters(material)),
+      num_vertices_(mesh.num_vertices()),
+      num_elements_(mesh.num_tets()),
+      tets_(mesh.tets()),
+      masses_(lumped_masses(mesh, material.density)),
+      rest_positions_(mesh.rest_positions()),
+      constraints_(mesh.num_vertices()) {
+  const auto num_elements = static_cast<std::size_t>(num_elements_);
+  elements_.reserve(num_elements);
+  scaled_gradients_.reserve(num_elements);
+  for (int t = 0; t < num_elements_; ++t) {
+    const TetRest rest = tet_rest(tet_positions(rest_positions_, tets_, t));
+    elements_.push_back(rest);
+    scaled_gradients_.push_back(std::sqrt(rest.volume) * rest.rest_inverse.transpose());
+  }
+
+  // Vertex incidences, in element order.
+  std::vector<int> counts(static_cast<std::size_t>(num_vertices_), 0);
+  for (int t = 0; t < num_elements_; ++t) {
+    for (int a = 0; a < 4; ++a) {
+      ++counts[static_cast<std::size_t>(tets_(a, t))];
+    }
+  }
+  vertex_offsets_ = offsets_from_counts(counts);
+  vertex_incidences_.resize(static_cast<std::size_t>(vertex_offsets_.back()));
+  std::vector<int> fill(vertex_offsets_.begin(), vertex_offsets_.end() - 1);
+  for (int t = 0; t < num_elements_; ++t) {
+    for (int a = 0; a < 4; ++a) {
+      vertex_incidences_[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets_(a, t))]++)] =
+          4 * t + a;
+    }
+  }
+
+  // Edge incidences, in element order; the edge's first (smaller) vertex's local index first.
+  const Eigen::Matrix2Xi edges = unique_edges(tets_);
+  const auto edge_of = [&edges](int i, int j) {
+    int lo = 0;
+    int hi = static_cast<int>(edges.cols());
+    while (lo < hi) {  // lexicographic binary search: edges are sorted
+      const int mid = (lo + hi) / 2;
+      if (edges(0, mid) < i || (edges(0, mid) == i && edges(1, mid) < j)) {
+        lo = mid + 1;
+      } else {
+        hi = mid;
+      }
+    }
+    return lo;
+  };
+  constexpr std::array<std::pair<int, int>, 6> kTetEdges{
+      {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
+  std::vector<int> element_edges(6 * num_elements);
+  std::vector<int> element_codes(6 * num_elements);
+  counts.assign(static_cast<std::size_t>(edges.cols()), 0);
+  for (int t = 0; t < num_elements_; ++t) {
+    for (std::size_t k = 0; k < kTetEdges.size(); ++k) {
+      auto [a, b] = kTetEdges[k];
+      if (tets_(a, t) > tets_(b, t)) {
+        std::swap(a, b);
+      }
+      const int edge = edge_of(tets_(a, t), tets_(b, t));
+      element_edges[6 * static_cast<std::size_t>(t) + k] = edge;
+      element_codes[6 * static_cast<std::size_t>(t) + k] = 16 * t + 4 * a + b;
+      ++counts[static_cast<std::size_t>(edge)];
+    }
+  }
+  edge_offsets_ = offsets_from_counts(counts);
+  edge_incidences_.resize(static_cast<std::size_t>(edge_offsets_.back()));
+  fill.assign(edge_offsets_.begin(), edge_offsets_.end() - 1);
+  for (std::size_t k = 0; k < element_edges.size(); ++k) {
+    edge_incidences_[static_cast<std::size_t>(fill[static_cast<std::size_t>(element_edges[k])]++)] =
+        element_codes[k];
+  }
+
+  pattern_ = std::make_unique<BlockPattern>(num_vertices_, edges);
+  solver_ = make_system_solver(solver_options(params_), *pattern_);
+
+  deformations_.resize(num_elements);
+  rotations_.resize(num_elements);
+  quaternions_.resize(num_elements);
+  element_rhs_.resize(num_elements);
+  element_gradients_.resize(num_elements);
+  known_changes_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  rhs_.resize(pattern_->size());
+  reset();
+}
+
+nlohmann::json CorotationalFemModel::parameters() const {
+  return param_table().to_json(params_);
+}
+
+void CorotationalFemModel::reset() {
+  positions_ = rest_positions_;
+  velocities_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  velocity_change_ = Eigen::VectorXd::Zero(pattern_->size());
+  std::fill(quaternions_.begin(), quaternions_.end(), Eigen::Quaterniond::Identity());
+  std::fill(rotations_.begin(), rotations_.end(), Eigen::Matrix3d::Identity());
+  std::fill(deformations_.begin(), deformations_.end(), Eigen::Matrix3d::Identity());
+  for (int t = 0; t < num_elements_; ++t) {
+    // At rest (and always, for linear FEM): w_a = sqrt(V) b_a.
+    Matrix34d& w = element_gradients_[static_cast<std::size_t>(t)];
+    w.rightCols<3>() = scaled_gradients_[static_cast<std::size_t>(t)];
+    w.col(0) = -w.rightCols<3>().rowwise().sum();
+  }
+}
+
+double CorotationalFemModel::elastic_energy() const {
+  const bool corotational =
+      params_.formulation == CorotationalFemParams::Formulation::kCorotational;
+  double energy = 0.0;
+  for (int t = 0; t < num_elements_; ++t) {
+    const TetRest& rest = elements_[static_cast<std::size_t>(t)];
+    const Eigen::Matrix3d deformation =
+        deformation_gradient(rest, tet_positions(positions_, tets_, t));
+    const Eigen::Matrix3d rotation =
+        corotational ? rotation_by_svd(deformation) : Eigen::Matrix3d::Identity();
+    energy += element_energy(rest, rotation, deformation, lame_);
+  }
+  return energy;
+}
+
+std::size_t CorotationalFemModel::memory_bytes() const {
+  return bytes_of(tets_) + bytes_of(masses_) + bytes_of(rest_positions_)
+         + bytes_of_elements(elements_) + bytes_of_elements(scaled_gradients_)
+         + bytes_of_elements(vertex_offsets_) + bytes_of_elements(vertex_incidences_)
+         + bytes_of_elements(edge_offsets_) + bytes_of_elements(edge_incidences_)
+         + bytes_of(positions_) + bytes_of(velocities_) + bytes_of(constraint_forces_)
+         + bytes_of_elements(quaternions_) + bytes_of_elements(deformations_)
+         + bytes_of_elements(rotations_) + bytes_of_elements(element_rhs_)
+         + bytes_of_elements(element_gradients_) + constraints_.memory_bytes()
+         + pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes()
+         + bytes_of(known_changes_) + bytes_of(rhs_) + bytes_of(velocity_change_);
+}
+
+void CorotationalFemModel::set_state(const Eigen::Matrix3Xd& positions,
+                                     const Eigen::Matrix3Xd& velocities) {
+  positions_ = positions;
+  velocities_ = velocities;
+}
+
+Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {
+  compute_element_terms(/*velocity_weight=*/0.0, /*force_scale=*/1.0);
+  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  for (int v = 0; v < num_vertices_; ++v) {
+    for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
+         k < vertex_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
+      const int incidence = vertex_incidences_[static_cast<std::size_t>(k)];
+      forces.col(v) += element_rhs_[static_cast<std::size_t>(incidence / 4)].col(incidence % 4);
+    }
+  }
+  return forces;
+}
+
+Eigen::SparseMatrix<double> CorotationalFemModel::stiffness_matrix() {
+  compute_element_terms(0.0, 1.0);
+  const StepInput unconstrained;
+  constraints_.bind(unconstrained.constraints);
+  assemble(/*mass_coefficient=*/0.0, /*stiffness_coefficient=*/1.0, /*dt=*/0.0, unconstrained);
+  constraints_.unbind();
+  return pattern_->matrix();
+}
+
+}  // namespace corotational_fem
+
+std::unique_ptr<SoftBody> make_corotational_fem(const TetMesh& mesh,
+                                                const Material& material,
+                                                const CorotationalFemParams& params) {
+  validate_material(material, "make_corotational_fem: material");
+  corotational_fem::validate(params, "make_corotational_fem: CorotationalFemParams");
+  return std::make_unique<corotational_fem::CorotationalFemModel>(mesh, material, params);
+}
+
+}  // namespace softbench

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "geometry/tet_mesh.h"
+#include "models/block_pattern.h"
+#include "models/corotational_fem/corotational_fem.h"
+#include "models/corotational_fem/tet_element.h"
+#include "models/implicit_system.h"
+#include "models/param_table.h"
+#include "models/system_solver.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCore>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace softbench::corotational_fem {
+
+/// The parameter table: reads scene blocks, echoes effective values, documents defaults.
+const ParamTable<CorotationalFemParams>& param_table();
+
+/// Throws InputError naming `where` for a value the table would reject.
+void validate(const CorotationalFemParams& params, const std::string& where);
+
+/// Wall time of the phases of step(), accumulated over the steps that were given it (s).
+struct PhaseTimes {
+  double rotations = 0.0;  ///< deformation gradients and rotation extraction
+  double assembly = 0.0;   ///< element forces and stiffness, gather into A and b, elimination
+  double solve = 0.0;      ///< the linear solve
+  double update = 0.0;     ///< positions, velocities, reactions
+};
+
+/// The model of corotational_fem.h. Construction precomputes the elements, the vertex and edge
+/// incidences and the matrix pattern; a step allocates nothing (CHOLMOD's numeric factorisation,
+/// when used, makes ~10 small mallocs of its own per call).
+///
+/// A step: (1) per element, F and R (parallel over elements); (2) per element, the right-hand
+/// side part and the rotated, volume-scaled gradients w_a = sqrt(V) R b_a (parallel over
+/// elements, into per-element storage); (3) per vertex and per edge, A's blocks and b gathered
+/// from the incident elements in a fixed order (parallel, no atomics; the block sums are
+/// lambda S + mu S^T + mu s I with S = sum w_a w_b^T, s = sum w_a . w_b); (4) exact constraints
+/// eliminated; (5) one solve; (6) the update. Results do not depend on the thread count.
+class CorotationalFemModel final : public SoftBody {
+ public:
+  CorotationalFemModel(const TetMesh& mesh,
+                       const Material& material,
+                       const CorotationalFemParams& params);
+
+  std::string_view name() const override { return "corotational_fem"; }
+  nlohmann::json parameters() const override;
+  StepStats step(double dt, const StepInput& input) override { return step_timed(dt, input); }
+  void reset() override;
+
+  const Eigen::Matrix3Xd& positions() const override { return positions_; }
+  const Eigen::Matrix3Xd& velocities() const override { return velocities_; }
+  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  /// At the current positions, with the exact polar rotation (SVD) whatever `rotation` is, so
+  /// it is a function of the positions alone.
+  double elastic_energy() const override;
+  std::size_t memory_bytes() const override;
+
+  /// step() that also adds each phase's wall time to `times` (for benchmarks; null: no timing).
+  StepStats step_timed(double dt, const StepInput& input, PhaseTimes* times = nullptr);
+
+  // The pieces of a step, for tests.
+
+  /// Sets positions and velocities (3 x #V each); the element rotations are kept.
+  void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities);
+  /// F of every element at the current positions and, unless `hold_rotations`, its rotation R
+  /// (a step's first phase; holding R is the warped-stiffness tangent's assumption).
+  void update_deformations(bool hold_rotations = false);
+  /// The elastic forces f(x) (3 x #V, N) with the F and R of the last update_deformations().
+  Eigen::Matrix3Xd elastic_forces();
+  /// K = -df/dx with the current rotations held fixed, assembled through the step's pattern and
+  /// gather (3#V x 3#V, N/m). Overwrites the system matrix.
+  Eigen::SparseMatrix<double> stiffness_matrix();
+  /// The current rotation of each element.
+  const std::vector<Eigen::Matrix3d>& rotations() const { return rotations_; }
+
+ private:
+  /// Per element: the right-hand-side part force_scale * f_a evaluated at F + velocity_weight G
+  /// (G the velocity gradient) and the rotated gradients w_a.
+  void compute_element_terms(double velocity_weight, double force_scale);
+  /// A = mass_coefficient M + stiffness_coefficient K (+ dt^2 k I at penalty constraints) and
+  /// b = the element parts + dt (M g + f_ext + penalty forces) - dt (alpha M v + dt k v).
+  void assemble(double mass_coefficient,
+                double stiffness_coefficient,
+                double dt,
+                const StepInput& input);
+  void eliminate_exact_constraints(double dt);
+  void compute_reactions(double dt);
+  StepStats finish_step() const;
+
+  CorotationalFemParams params_;
+  LameParameters lame_;
+  int num_vertices_ = 0;
+  int num_elements_ = 0;
+
+  // Mesh and elements, fixed after construction.
+  Eigen::Matrix4Xi tets_;
+  Eigen::VectorXd masses_;
+  Eigen::Matrix3Xd rest_positions_;
+  std::vector<TetRest> elements_;
+  /// sqrt(V) [b1 b2 b3] per element: w_a = R times these (w_0 = -(w_1 + w_2 + w_3)).
+  std::vector<Eigen::Matrix3d> scaled_gradients_;
+  // Incidences (CSR) for the gathers: per vertex, element * 4 + local index; per edge (i < j),
+  // element * 16 + 4 * (local index of i) + (local index of j).
+  std::vector<int> vertex_offsets_;
+  std::vector<int> vertex_incidences_;
+  std::vector<int> edge_offsets_;
+  std::vector<int> edge_incidences_;
+
+  // State.
+  Eigen::Matrix3Xd positions_;
+  Eigen::Matrix3Xd velocities_;
+  Eigen::Matrix3Xd constraint_forces_;
+  std::vector<Eigen::Quaterniond> quaternions_;  ///< warm starts (rotation "quaternion")
+
+  // Per-step work arrays, sized once.
+  std::vector<Eigen::Matrix3d> deformations_;  ///< F per element
+  std::vector<Eigen::Matrix3d> rotations_;     ///< R per element (I for "linear")
+  std::vector<Matrix34d> element_rhs_;         ///< per element, its nodes' right-hand side parts
+  std::vector<Matrix34d> element_gradients_;   ///< per element, w_a = sqrt(V) R b_a
+  VertexConstraints constraints_;
+  std::unique_ptr<BlockPattern> pattern_;
+  std::unique_ptr<SystemSolver> solver_;
+  ConstraintElimination elimination_;
+  Eigen::Matrix3Xd known_changes_;   ///< dv at exactly constrained vertices
+  Eigen::VectorXd rhs_;              ///< b, 3#V
+  Eigen::VectorXd velocity_change_;  ///< dv; the previous step's warm-starts CG
+};
+
+}  // namespace softbench::corotational_fem

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: MIT
+#include "models/implicit_system.h"
+
+#include <algorithm>
+
+namespace softbench {
+
+VertexConstraints::VertexConstraints(int num_vertices)
+    : index_(static_cast<std::size_t>(num_vertices), -1) {
+  vertices_.reserve(static_cast<std::size_t>(num_vertices));
+  exact_vertices_.reserve(static_cast<std::size_t>(num_vertices));
+}
+
+void VertexConstraints::bind(std::span<const PositionConstraint> constraints) {
+  constraints_ = constraints;
+  const auto num_vertices = static_cast<int>(index_.size());
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const int vertex = constraints[k].vertex;
+    if (vertex < 0 || vertex >= num_vertices) {
+      continue;
+    }
+    int& index = index_[static_cast<std::size_t>(vertex)];
+    if (index < 0) {
+      vertices_.push_back(vertex);  // within the reserved capacity: no allocation
+    }
+    index = static_cast<int>(k);
+  }
+  for (const int vertex : vertices_) {
+    if (is_exact(of(vertex))) {
+      exact_vertices_.push_back(vertex);
+    }
+  }
+}
+
+void VertexConstraints::unbind() {
+  for (const int vertex : vertices_) {
+    index_[static_cast<std::size_t>(vertex)] = -1;
+  }
+  vertices_.clear();
+  exact_vertices_.clear();
+  constraints_ = {};
+}
+
+std::size_t VertexConstraints::memory_bytes() const {
+  return (index_.capacity() + vertices_.capacity() + exact_vertices_.capacity()) * sizeof(int);
+}
+
+void ConstraintElimination::eliminate(BlockPattern& pattern,
+                                      const VertexConstraints& constraints,
+                                      const Eigen::Matrix3Xd& known,
+                                      Eigen::VectorXd& rhs,
+                                      Eigen::VectorXd& solution) {
+  const std::span<const int> exact = constraints.exact_vertices();
+  double* values = pattern.matrix().valuePtr();
+
+  // Save the rows first: eliminating one vertex zeroes blocks in its neighbours' columns.
+  vertices_.assign(exact.begin(), exact.end());
+  value_offsets_.resize(exact.size() + 1);
+  value_offsets_[0] = 0;
+  for (std::size_t k = 0; k < exact.size(); ++k) {
+    value_offsets_[k + 1] =
+        value_offsets_[k] + 9 * static_cast<int>(pattern.neighbours(exact[k]).size());
+  }
+  saved_values_.resize(static_cast<std::size_t>(value_offsets_.back()));
+  saved_rhs_.resize(3 * exact.size());
+  for (std::size_t k = 0; k < exact.size(); ++k) {
+    const int c = exact[k];
+    const double* begin = values + pattern.column_values_begin(c);
+    std::copy(begin, begin + (value_offsets_[k + 1] - value_offsets_[k]),
+              saved_values_.begin() + value_offsets_[k]);
+    for (int a = 0; a < 3; ++a) {
+      saved_rhs_[3 * k + static_cast<std::size_t>(a)] = rhs(3 * c + a);
+    }
+  }
+
+  for (const int c : exact) {
+    const Eigen::Vector3d value = known.col(c);
+    const std::span<const int> neighbours = pattern.neighbours(c);
+    for (std::size_t slot = 0; slot < neighbours.size(); ++slot) {
+      const int other = neighbours[slot];
+      const BlockEntries column = pattern.column_block(c, static_cast<int>(slot));
+      if (other != c && !is_exact(constraints.of(other))) {
+        // b_o -= A_oc u_c, A_oc being block (o, c) in c's columns.
+        rhs.segment<3>(3 * other) -= pattern.get(column) * value;
+      }
+      if (other == c) {
+        pattern.set(column, Eigen::Matrix3d::Identity());
+      } else {
+        pattern.set(column, Eigen::Matrix3d::Zero());
+        pattern.set(pattern.row_block(c, static_cast<int>(slot)), Eigen::Matrix3d::Zero());
+      }
+    }
+  }
+  for (const int c : exact) {
+    rhs.segment<3>(3 * c) = known.col(c);
+    solution.segment<3>(3 * c) = known.col(c);
+  }
+}
+
+void ConstraintElimination::constrained_residuals(const BlockPattern& pattern,
+                                                  const Eigen::VectorXd& solution,
+                                                  Eigen::Matrix3Xd& residuals) const {
+  for (std::size_t k = 0; k < vertices_.size(); ++k) {
+    const int c = vertices_[k];
+    const std::span<const int> neighbours = pattern.neighbours(c);
+    const auto degree = static_cast<int>(neighbours.size());
+    const double* columns = saved_values_.data() + value_offsets_[k];
+    Eigen::Vector3d row = Eigen::Vector3d::Zero();
+    for (int b = 0; b < 3; ++b) {
+      // Row c, entry b of A u: column 3c + b of the symmetric A, dotted with u.
+      const double* column = columns + 3 * degree * b;
+      for (int slot = 0; slot < degree; ++slot) {
+        row(b) +=
+            column[3 * slot] * solution(3 * neighbours[static_cast<std::size_t>(slot)])
+            + column[3 * slot + 1] * solution(3 * neighbours[static_cast<std::size_t>(slot)] + 1)
+            + column[3 * slot + 2] * solution(3 * neighbours[static_cast<std::size_t>(slot)] + 2);
+      }
+      row(b) -= saved_rhs_[3 * k + static_cast<std::size_t>(b)];
+    }
+    residuals.col(c) = row;
+  }
+}
+
+std::size_t ConstraintElimination::memory_bytes() const {
+  return (vertices_.capacity() + value_offsets_.capacity()) * sizeof(int)
+         + (saved_values_.capacity() + saved_rhs_.capacity()) * sizeof(double);
+}
+
+}  // namespace softbench

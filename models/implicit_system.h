@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "models/block_pattern.h"
+#include "models/soft_body.h"
+
+#include <Eigen/Core>
+
+#include <cstddef>
+#include <span>
+#include <vector>
+
+// What the implicit models (mass-spring, corotational FEM) share about a step's constraints:
+// which constraint acts on each vertex, and exact constraints imposed on a block system A u = b
+// by elimination, with the reactions read from the rows as they were before elimination.
+
+namespace softbench {
+
+inline bool is_exact(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness == kExact;
+}
+
+inline bool is_penalty(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness != kExact;
+}
+
+/// The constraint acting on each vertex during one step: the last one listed for a vertex wins,
+/// and vertices out of range are ignored (step() never throws). bind() at the start of a step,
+/// unbind() at its end; nothing allocates after construction.
+class VertexConstraints {
+ public:
+  explicit VertexConstraints(int num_vertices);
+
+  void bind(std::span<const PositionConstraint> constraints);
+  void unbind();
+
+  /// The constraint on `vertex` this step, or null.
+  const PositionConstraint* of(int vertex) const {
+    const int index = index_[static_cast<std::size_t>(vertex)];
+    return index < 0 ? nullptr : &constraints_[static_cast<std::size_t>(index)];
+  }
+  /// Every constrained vertex once, in the order of the list's first mention.
+  std::span<const int> vertices() const { return vertices_; }
+  /// The exactly constrained vertices among them, in the same order.
+  std::span<const int> exact_vertices() const { return exact_vertices_; }
+
+  std::size_t memory_bytes() const;
+
+ private:
+  std::span<const PositionConstraint> constraints_;
+  std::vector<int> index_;  ///< per vertex: into constraints_, or -1
+  std::vector<int> vertices_;
+  std::vector<int> exact_vertices_;
+};
+
+/// Exact constraints on a symmetric block system A u = b (BlockPattern layout) whose unknown at
+/// an exactly constrained vertex c is known, u_c: b_o -= A_oc u_c at every free neighbour o, the
+/// rows and columns of c become identity (values only: the pattern keeps its explicit zeros, so
+/// CHOLMOD's symbolic analysis stays valid) and b_c = u_c. The system stays symmetric positive
+/// definite and its solution is exactly u_c at c. Rows of c are saved first, so
+/// constrained_residuals() gives (A u - b)_c of the system as assembled: divided by dt, the force
+/// the constraint exerted (the reaction).
+class ConstraintElimination {
+ public:
+  /// `known` is 3 x #V, read at the exact vertices of `constraints`. `solution` gets u_c there
+  /// (also an iterative solver's best guess).
+  void eliminate(BlockPattern& pattern,
+                 const VertexConstraints& constraints,
+                 const Eigen::Matrix3Xd& known,
+                 Eigen::VectorXd& rhs,
+                 Eigen::VectorXd& solution);
+
+  /// (A u - b)_c with the rows saved by the last eliminate(), written to residuals.col(c) for
+  /// each exact vertex c (other columns untouched).
+  void constrained_residuals(const BlockPattern& pattern,
+                             const Eigen::VectorXd& solution,
+                             Eigen::Matrix3Xd& residuals) const;
+
+  std::size_t memory_bytes() const;
+
+ private:
+  // Grown to the largest constraint set seen, never shrunk: steady steps do not allocate.
+  std::vector<int> vertices_;
+  std::vector<int> value_offsets_;    ///< into saved_values_, per saved vertex (+1)
+  std::vector<double> saved_values_;  ///< each vertex's three columns (= rows: A is symmetric)
+  std::vector<double> saved_rhs_;     ///< 3 per saved vertex
+};
+
+}  // namespace softbench

@@ -1,0 +1,221 @@
+// SPDX-License-Identifier: MIT
+// The shape-matching model: construction (clusters and the matcher's rest-shape data), state and
+// the step. The per-cluster kernel is in cluster_matching.cpp, the parameter table in
+// shape_matching_params.cpp.
+#include "models/shape_matching/shape_matching.h"
+
+#include "geometry/mesh_measures.h"
+#include "models/shape_matching/shape_matching_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace softbench {
+namespace shape_matching {
+namespace {
+
+/// Below this many memberships a step runs on one thread: starting a parallel region costs more
+/// than it saves.
+constexpr int kParallelMemberships = 2048;
+/// Particles per chunk of a parallel per-particle loop: a few microseconds of work each.
+[[maybe_unused]] constexpr int kParticleChunk = 256;
+
+bool is_exact(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness == kExact;
+}
+
+bool is_penalty(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness != kExact;
+}
+
+template <class Matrix>
+std::size_t bytes_of(const Matrix& matrix) {
+  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
+}
+
+Clusters clusters_for(const TetMesh& mesh, const ShapeMatchingParams& params) {
+  return build_clusters(mesh.rest_positions(),
+                        {params.clusters, params.cluster_radius, params.particles_per_cluster});
+}
+
+}  // namespace
+
+ShapeMatchingModel::ShapeMatchingModel(const TetMesh& mesh,
+                                       const Material& material,
+                                       const ShapeMatchingParams& params)
+    : params_(params),
+      num_vertices_(mesh.num_vertices()),
+      masses_(lumped_masses(mesh, material.density)),
+      rest_positions_(mesh.rest_positions()),
+      clusters_(clusters_for(mesh, params)),
+      matcher_(rest_positions_, masses_, clusters_, params),
+      positions_(rest_positions_),
+      velocities_(Eigen::Matrix3Xd::Zero(3, num_vertices_)),
+      constraint_forces_(Eigen::Matrix3Xd::Zero(3, num_vertices_)),
+      predicted_(rest_positions_),
+      squared_residuals_(Eigen::VectorXd::Zero(num_vertices_)),
+      cluster_iterations_(static_cast<std::size_t>(clusters_.count()), 0),
+      constraint_index_(static_cast<std::size_t>(num_vertices_), -1) {
+  const Eigen::Matrix<double, 3, 2> box = bounding_box(rest_positions_);
+  const double diagonal = (box.col(1) - box.col(0)).norm();
+  diagonal_ = diagonal > 0.0 ? diagonal : 1.0;
+}
+
+nlohmann::json ShapeMatchingModel::parameters() const {
+  return param_table().to_json(params_);
+}
+
+void ShapeMatchingModel::reset() {
+  positions_ = rest_positions_;
+  predicted_ = rest_positions_;
+  velocities_.setZero();
+  constraint_forces_.setZero();
+  matcher_.reset();
+}
+
+double ShapeMatchingModel::elastic_energy() const {
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+std::size_t ShapeMatchingModel::memory_bytes() const {
+  return bytes_of(masses_) + bytes_of(rest_positions_) + bytes_of(positions_)
+         + bytes_of(velocities_) + bytes_of(constraint_forces_) + bytes_of(predicted_)
+         + bytes_of(squared_residuals_)
+         + (clusters_.seeds.size() + clusters_.offsets.size() + clusters_.members.size()
+            + cluster_iterations_.size() + constraint_index_.size())
+               * sizeof(int)
+         + matcher_.memory_bytes();
+}
+
+void ShapeMatchingModel::bind_constraints(std::span<const PositionConstraint> constraints) {
+  for (std::size_t k = 0; k < constraints.size(); ++k) {
+    const int vertex = constraints[k].vertex;
+    // An out-of-range vertex is ignored rather than thrown: step() never throws.
+    if (vertex >= 0 && vertex < num_vertices_) {
+      constraint_index_[static_cast<std::size_t>(vertex)] = static_cast<int>(k);
+    }
+  }
+}
+
+void ShapeMatchingModel::unbind_constraints(std::span<const PositionConstraint> constraints) {
+  for (const PositionConstraint& constraint : constraints) {
+    if (constraint.vertex >= 0 && constraint.vertex < num_vertices_) {
+      constraint_index_[static_cast<std::size_t>(constraint.vertex)] = -1;
+    }
+  }
+}
+
+const PositionConstraint* ShapeMatchingModel::constraint_of(
+    int vertex, std::span<const PositionConstraint> constraints) const {
+  const int index = constraint_index_[static_cast<std::size_t>(vertex)];
+  return index < 0 ? nullptr : &constraints[static_cast<std::size_t>(index)];
+}
+
+void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) {
+  const PositionConstraint* constraint = constraint_of(vertex, input.constraints);
+  const double mass = masses_(vertex);
+  Eigen::Vector3d force = mass * input.gravity;
+  if (input.external_forces != nullptr) {
+    force += input.external_forces->col(vertex);
+  }
+  if (is_exact(constraint)) {
+    // On the target before the matching, so the particle drags its clusters along; the reaction
+    // is the momentum change the other forces did not make.
+    const Eigen::Vector3d velocity = (constraint->target - positions_.col(vertex)) / dt;
+    constraint_forces_.col(vertex) = mass * (velocity - velocities_.col(vertex)) / dt - force;
+    velocities_.col(vertex) = velocity;
+    positions_.col(vertex) = constraint->target;
+    predicted_.col(vertex) = constraint->target;
+    return;
+  }
+  if (is_penalty(constraint)) {
+    // The spring k (target - x) by backward Euler on this particle alone, stable at any dt:
+    // (m + dt^2 k) v* = m v + dt (f + k (target - x)).
+    const double k = constraint->stiffness;
+    velocities_.col(vertex) = (mass * velocities_.col(vertex)
+                               + dt * (force + k * (constraint->target - positions_.col(vertex))))
+                              / (mass + dt * dt * k);
+  } else {
+    velocities_.col(vertex) += (dt / mass) * force;
+  }
+  predicted_.col(vertex) = positions_.col(vertex) + dt * velocities_.col(vertex);
+}
+
+void ShapeMatchingModel::pull(int vertex, double dt, const StepInput& input) {
+  const PositionConstraint* constraint = constraint_of(vertex, input.constraints);
+  if (is_exact(constraint)) {
+    squared_residuals_(vertex) = 0.0;
+    return;
+  }
+  const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - predicted_.col(vertex);
+  squared_residuals_(vertex) = towards_goal.squaredNorm();
+  velocities_.col(vertex) += (params_.alpha / dt) * towards_goal;
+  positions_.col(vertex) = predicted_.col(vertex) + params_.alpha * towards_goal;
+  constraint_forces_.col(vertex) =
+      is_penalty(constraint)
+          ? Eigen::Vector3d(constraint->stiffness * (constraint->target - positions_.col(vertex)))
+          : Eigen::Vector3d::Zero();
+}
+
+StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
+  bind_constraints(input.constraints);
+  const int num_clusters = matcher_.num_clusters();
+  [[maybe_unused]] const bool parallel = matcher_.num_memberships() >= kParallelMemberships;
+  // Dynamic schedules: cluster sizes differ (73 to 142 particles on the liver), and on a shared
+  // machine a thread held up by another process does not hold back a fixed share. Each cluster
+  // and particle is computed the same whichever thread takes it, and the per-particle gathers
+  // run in a fixed order: the results are bit-identical on any number of threads.
+#pragma omp parallel if (parallel)
+  {
+#pragma omp for schedule(dynamic, kParticleChunk)
+    for (int v = 0; v < num_vertices_; ++v) {
+      predict(v, dt, input);
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int k = 0; k < num_clusters; ++k) {
+      cluster_iterations_[static_cast<std::size_t>(k)] = matcher_.match_cluster(k, predicted_);
+    }
+#pragma omp for schedule(dynamic, kParticleChunk)
+    for (int v = 0; v < num_vertices_; ++v) {
+      pull(v, dt, input);
+    }
+  }
+
+  // Serial reductions in a fixed order: the same stats on any number of threads.
+  StepStats stats;
+  stats.iterations = *std::max_element(cluster_iterations_.begin(), cluster_iterations_.end());
+  int free_particles = num_vertices_;
+  for (const PositionConstraint& listed : input.constraints) {
+    if (listed.vertex < 0 || listed.vertex >= num_vertices_) {
+      continue;
+    }
+    const PositionConstraint* constraint = constraint_of(listed.vertex, input.constraints);
+    if (constraint != &listed) {
+      continue;  // overridden by a later constraint on the same vertex
+    }
+    if (is_exact(constraint)) {
+      --free_particles;
+    } else {
+      stats.max_constraint_error = std::max(stats.max_constraint_error,
+                                            (positions_.col(listed.vertex) - listed.target).norm());
+    }
+  }
+  stats.residual =
+      free_particles > 0 ? std::sqrt(squared_residuals_.sum() / free_particles) / diagonal_ : 0.0;
+  stats.finite = positions_.allFinite() && velocities_.allFinite();
+  unbind_constraints(input.constraints);
+  return stats;
+}
+
+}  // namespace shape_matching
+
+std::unique_ptr<SoftBody> make_shape_matching(const TetMesh& mesh,
+                                              const Material& material,
+                                              const ShapeMatchingParams& params) {
+  validate_material(material, "make_shape_matching: material");
+  shape_matching::validate(params, "make_shape_matching: ShapeMatchingParams");
+  return std::make_unique<shape_matching::ShapeMatchingModel>(mesh, material, params);
+}
+
+}  // namespace softbench

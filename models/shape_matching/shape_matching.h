@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "geometry/tet_mesh.h"
+#include "models/material.h"
+#include "models/model_registry.h"
+#include "models/soft_body.h"
+
+#include <memory>
+
+namespace softbench {
+
+// Meshless deformation by shape matching (Mueller, Heidelberger, Teschner & Gross 2005,
+// "Meshless deformations based on shape matching"), as the thesis uses it (sections 3.4.4-3.4.5):
+// the particles are the mesh vertices with lumped masses from the material density. The mesh's
+// tets are used for nothing else, and the material's Young's modulus and Poisson's ratio are
+// ignored: the stiffness is `alpha` (and the time step), not a material constant.
+//
+// Per cluster of particles with rest positions x0_i and masses m_i, and per step:
+//   c = sum m_i x_i / M,  p_i = x_i - c,  q_i = x0_i - c0 (c0 the rest centre of mass);
+//   Apq = sum m_i p_i q_i^T; R = the rotation of the polar decomposition Apq = R S;
+//   linear:    A = Apq Aqq^-1, Aqq = sum m_i q_i q_i^T; A / cbrt(det A) keeps the volume;
+//              T = beta A + (1 - beta) R, goal g_i = T q_i + c;
+//   quadratic: q~ = [qx qy qz qx^2 qy^2 qz^2 qx qy qy qz qz qx] (9), A~ = Apq~ Aqq~^-1 (3 x 9),
+//              T = beta A~ + (1 - beta) [R 0 0], g_i = T q~_i + c.
+// A particle's goal is the average of its clusters' goals. The step (Mueller 2005, eq. 2 with
+// predicted positions, as in position-based dynamics):
+//   v* = v + dt f / m,  x* = x + dt v*,  goals g from x*,
+//   v' = v* + alpha (g - x*) / dt,  x' = x* + alpha (g - x*)  (= x + dt v').
+// For 0 < alpha <= 1 the pull never overshoots its goal: the step is stable at any dt.
+//
+// Departures from the paper, each needed for a property the tests check:
+// - The quadratic terms of q~ are centred on their cluster's mass-weighted mean (the paper's q~
+//   is not), so the fit has an intercept: a prescribed quadratic deformation is reproduced
+//   exactly, and the goals keep the cluster's centre of mass (with one cluster the pull
+//   conserves linear momentum).
+// - q is scaled by the cluster's RMS radius before the fit, and Aqq^-1 is a pseudo-inverse
+//   (eigenvalues below 1e-9 of the largest dropped): flat or tiny clusters stay finite.
+// - Linear mode uses A / cbrt(det A) only while det A > 0.05; a cluster squashed or inverted
+//   beyond that follows R alone until it has recovered (det A -> 0 would blow A up).
+//
+// Constraints: an exactly constrained particle is put on its target before the matching (with
+// v = (target - x) / dt), so it drags its clusters along, and is not pulled toward its goal. A
+// penalty constraint is a spring k (target - x) integrated implicitly on its own particle, so it
+// is stable at any dt too.
+//
+// Behaviour worth knowing: there is no damping parameter and no plasticity; the pull itself
+// dissipates (with one cluster a deformation decays by sqrt(1 - alpha (1 - beta)) per step:
+// 0.857 with the thesis's values). The stiffness is per step, not physical: halving dt doubles
+// the pulls per second. Pinned particles hold their clusters only through their share of the
+// clusters' mass, so a body hanging from a few pins is very soft: the liver of
+// scenes/liver_gravity.json (7% of its vertices fixed) stretches to 5x its volume within 0.5 s
+// under gravity with the thesis's values at dt = 1/60 s, and once gravity is off swings back
+// to within 2% of its rest shape over about 20 s.
+//
+// StepStats: `iterations` is the largest number of rotation iterations a cluster took
+// (quaternion extraction; 0 for the SVD); `residual` is the RMS of |g_i - x*_i| over the particles
+// not constrained exactly, divided by the rest bounding-box diagonal (how far the body was from
+// its goals before the pull). elastic_energy() is NaN: shape matching has no energy.
+// constraint_forces() is m (v' - v) / dt - f_ext at exactly constrained particles (f_ext:
+// gravity and external forces) and the spring force at penalty-constrained ones.
+
+struct ShapeMatchingParams {
+  enum class Type { kLinear, kQuadratic };
+  enum class Rotation { kSvd, kQuaternion };
+
+  /// "linear": goals from a 3x3 map (shear and stretch); "quadratic": from a 3x9 map (also
+  /// twist and bend: the thesis's choice). Quadratic costs about twice as much per particle.
+  Type type = Type::kQuadratic;
+  /// Number of overlapping clusters (the thesis: 50), clamped to the number of particles. 1 = one
+  /// global cluster holding every particle. More clusters: more local, larger deformation; one
+  /// polar decomposition each, and more particle memberships to match.
+  int clusters = 50;
+  /// m, the region radius: a cluster is every particle within it of the cluster's seed. 0 =
+  /// choose it so that on average about `particles_per_cluster` particles take part per cluster.
+  /// Particles outside every region join their nearest seed's cluster, so none is left out.
+  double cluster_radius = 0.0;
+  /// Target average particles per cluster when cluster_radius is 0 (the thesis: 96). More:
+  /// stiffer, smoother clusters and more overlap; the cost grows in proportion.
+  int particles_per_cluster = 96;
+  /// Fraction of the way to its goal a particle is pulled per step, in (0, 1] (the thesis:
+  /// 0.72). 1: the shape is restored in one step (rigid); smaller: softer, more oscillation. The
+  /// stiffness also depends on dt: the pull is per step.
+  double alpha = 0.72;
+  /// Blend in [0, 1] of the best linear (quadratic) map with the rotation (the thesis: 0.63).
+  /// 0: rigid goals; larger: the cluster keeps more of its deformation (softer to shear, bend,
+  /// twist), and recovers more slowly.
+  double beta = 0.63;
+  /// "svd": the polar rotation from a 3x3 SVD, exact, ~0.6 us per cluster; "quaternion": Mueller,
+  /// Bender, Chentanez & Macklin 2016's iteration, warm-started from the cluster's rotation of
+  /// the previous step, ~0.07 us per iteration; with few iterations the rotation lags a fast
+  /// spin by a little, converging over the next steps.
+  Rotation rotation = Rotation::kQuaternion;
+  /// The most quaternion iterations per cluster and step (each stops early once the correction
+  /// is below 1e-12 rad). More: closer to the exact rotation, dearer.
+  int rotation_iterations = 2;
+};
+
+/// The registry entry ("shape_matching") with the parameter table.
+ModelInfo shape_matching_info();
+
+/// Direct construction, for tests and benchmarks. Throws InputError on invalid parameters or
+/// material (only its density is used).
+std::unique_ptr<SoftBody> make_shape_matching(const TetMesh& mesh,
+                                              const Material& material,
+                                              const ShapeMatchingParams& params);
+
+}  // namespace softbench

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "geometry/tet_mesh.h"
+#include "models/param_table.h"
+#include "models/shape_matching/cluster_matching.h"
+#include "models/shape_matching/clusters.h"
+#include "models/shape_matching/shape_matching.h"
+
+#include <Eigen/Core>
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace softbench::shape_matching {
+
+/// The parameter table: reads scene blocks, echoes effective values, documents defaults.
+const ParamTable<ShapeMatchingParams>& param_table();
+
+/// Throws InputError naming `where` for a value the table would reject.
+void validate(const ShapeMatchingParams& params, const std::string& where);
+
+/// The model of shape_matching.h. Construction builds the clusters and the matcher's rest-shape
+/// data; step() allocates nothing.
+class ShapeMatchingModel final : public SoftBody {
+ public:
+  ShapeMatchingModel(const TetMesh& mesh,
+                     const Material& material,
+                     const ShapeMatchingParams& params);
+
+  std::string_view name() const override { return "shape_matching"; }
+  nlohmann::json parameters() const override;
+  StepStats step(double dt, const StepInput& input) override;
+  void reset() override;
+
+  const Eigen::Matrix3Xd& positions() const override { return positions_; }
+  const Eigen::Matrix3Xd& velocities() const override { return velocities_; }
+  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  double elastic_energy() const override;  ///< NaN: shape matching has no energy
+  std::size_t memory_bytes() const override;
+
+  /// For tests and reports: the clusters, and the matcher (its goals are those of the last step,
+  /// computed from the predicted positions).
+  const Clusters& clusters() const { return clusters_; }
+  const ClusterMatcher& matcher() const { return matcher_; }
+  /// 3 x #V: the predicted positions x* = x + dt v* of the last step, which the goals matched.
+  const Eigen::Matrix3Xd& predicted_positions() const { return predicted_; }
+
+ private:
+  void bind_constraints(std::span<const PositionConstraint> constraints);
+  void unbind_constraints(std::span<const PositionConstraint> constraints);
+  const PositionConstraint* constraint_of(int vertex,
+                                          std::span<const PositionConstraint> constraints) const;
+  /// v* and x* of one particle (or its target, for an exact constraint).
+  void predict(int vertex, double dt, const StepInput& input);
+  /// The alpha pull toward the particle's goal, and the integration.
+  void pull(int vertex, double dt, const StepInput& input);
+
+  ShapeMatchingParams params_;
+  int num_vertices_ = 0;
+  Eigen::VectorXd masses_;
+  Eigen::Matrix3Xd rest_positions_;
+  double diagonal_ = 1.0;  ///< m, the rest bounding-box diagonal (for the residual)
+  Clusters clusters_;
+  ClusterMatcher matcher_;
+
+  // State.
+  Eigen::Matrix3Xd positions_;
+  Eigen::Matrix3Xd velocities_;
+  Eigen::Matrix3Xd constraint_forces_;
+
+  // Per-step work arrays, sized once.
+  Eigen::Matrix3Xd predicted_;           ///< x*
+  Eigen::VectorXd squared_residuals_;    ///< |g - x*|^2 per particle (0 if exactly held)
+  std::vector<int> cluster_iterations_;  ///< rotation iterations per cluster
+  std::vector<int> constraint_index_;    ///< per vertex, into the step's constraints; -1 none
+};
+
+}  // namespace softbench::shape_matching

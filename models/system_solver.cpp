@@ -1,0 +1,407 @@
+// SPDX-License-Identifier: MIT
+#include "models/system_solver.h"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <span>
+#include <vector>
+
+namespace softbench {
+namespace {
+
+using SparseMatrix = Eigen::SparseMatrix<double>;
+
+/// CHOLMOD through its C API rather than Eigen's wrapper: cholmod_solve2 reuses its output and
+/// workspace, so a solve allocates nothing after the first (Eigen's solve() allocates twice).
+/// Symbolic analysis once, numeric factorisation on demand.
+class CholmodFactor {
+ public:
+  CholmodFactor(const SparseMatrix& pattern, bool supernodal) {
+    cholmod_start(&common_);
+    common_.print = 0;  // failures are reported through SolveReport, not stderr
+    common_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+    common_.final_asis = 1;
+    common_.quick_return_if_not_posdef = 1;
+    cholmod_sparse view = view_of(pattern);
+    factor_ = cholmod_analyze(&view, &common_);
+  }
+  ~CholmodFactor() {
+    cholmod_free_factor(&factor_, &common_);
+    cholmod_free_dense(&solution_, &common_);
+    cholmod_free_dense(&workspace_y_, &common_);
+    cholmod_free_dense(&workspace_e_, &common_);
+    cholmod_finish(&common_);
+  }
+  CholmodFactor(const CholmodFactor&) = delete;
+  CholmodFactor& operator=(const CholmodFactor&) = delete;
+
+  /// False when the matrix is not (numerically) positive definite or not finite.
+  bool factorize(const SparseMatrix& a) {
+    if (factor_ == nullptr) {
+      return false;
+    }
+    cholmod_sparse view = view_of(a);
+    const int ok = cholmod_factorize(&view, factor_, &common_);
+    return ok != 0 && common_.status == CHOLMOD_OK && factor_->minor == factor_->n;
+  }
+
+  /// x = A^-1 b with the last factorisation.
+  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+    cholmod_dense rhs{};
+    rhs.nrow = static_cast<std::size_t>(b.size());
+    rhs.ncol = 1;
+    rhs.nzmax = rhs.nrow;
+    rhs.d = rhs.nrow;
+    rhs.x = const_cast<double*>(b.data());  // read only
+    rhs.xtype = CHOLMOD_REAL;
+    rhs.dtype = CHOLMOD_DOUBLE;
+    cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &solution_, nullptr, &workspace_y_,
+                   &workspace_e_, &common_);
+    std::memcpy(x.data(), solution_->x, static_cast<std::size_t>(x.size()) * sizeof(double));
+  }
+
+  std::size_t memory_bytes() const {
+    // Nonzeros of L as the analysis predicts them (values and row indices).
+    return static_cast<std::size_t>(common_.lnz) * (sizeof(double) + sizeof(int));
+  }
+
+ private:
+  /// The lower triangle of the full symmetric matrix, without a copy (stype -1 ignores the rest).
+  static cholmod_sparse view_of(const SparseMatrix& a) {
+    cholmod_sparse view{};
+    view.nrow = static_cast<std::size_t>(a.rows());
+    view.ncol = static_cast<std::size_t>(a.cols());
+    view.nzmax = static_cast<std::size_t>(a.nonZeros());
+    view.p = const_cast<int*>(a.outerIndexPtr());  // CHOLMOD only reads them
+    view.i = const_cast<int*>(a.innerIndexPtr());
+    view.x = const_cast<double*>(a.valuePtr());
+    view.stype = -1;
+    view.itype = CHOLMOD_INT;
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    view.sorted = 1;
+    view.packed = 1;
+    return view;
+  }
+
+  cholmod_common common_{};
+  cholmod_factor* factor_ = nullptr;
+  cholmod_dense* solution_ = nullptr;
+  cholmod_dense* workspace_y_ = nullptr;
+  cholmod_dense* workspace_e_ = nullptr;
+};
+
+double relative(double residual_norm, double rhs_norm) {
+  return rhs_norm > 0.0 ? residual_norm / rhs_norm : residual_norm;
+}
+
+/// The vector loops of PCG over the fixed chunks of BlockPattern, so every dot product is summed
+/// in the same order whatever the thread count (bit-identical results on 1 and 2 threads).
+class ChunkedVectors {
+ public:
+  explicit ChunkedVectors(const BlockPattern& pattern)
+      : num_vertices_(pattern.num_vertices()),
+        chunk_sums_(static_cast<std::size_t>(pattern.num_chunks()), 0.0) {}
+
+  std::span<double> chunk_sums() { return chunk_sums_; }
+  double total() const {
+    double sum = 0.0;
+    for (const double part : chunk_sums_) {
+      sum += part;
+    }
+    return sum;
+  }
+
+  /// Applies `body(begin, end)` to the entry ranges of each chunk, in parallel when large, and
+  /// returns the ordered sum of what each call returns.
+  template <class Body>
+  double for_each_chunk(const Body& body) {
+    const auto chunks = static_cast<int>(chunk_sums_.size());
+    const Eigen::Index entries = 3 * static_cast<Eigen::Index>(num_vertices_);
+#pragma omp parallel for schedule(static) if (num_vertices_ > BlockPattern::kParallelVertices)
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      const Eigen::Index begin =
+          3 * static_cast<Eigen::Index>(chunk) * BlockPattern::kChunkVertices;
+      const Eigen::Index end =
+          std::min(entries, begin + 3 * static_cast<Eigen::Index>(BlockPattern::kChunkVertices));
+      chunk_sums_[static_cast<std::size_t>(chunk)] = body(begin, end);
+    }
+    return total();
+  }
+
+  std::size_t memory_bytes() const {
+    return chunk_sums_.capacity() * sizeof(double);
+  }
+
+ private:
+  int num_vertices_;
+  std::vector<double> chunk_sums_;
+};
+
+/// Preconditioned CG on preallocated vectors (Eigen's ConjugateGradient allocates its work
+/// vectors on every solve). The stopping test and the reported residual follow Eigen's: the
+/// recursively updated residual against tolerance |b|.
+class PcgIterations {
+ public:
+  explicit PcgIterations(const BlockPattern& pattern)
+      : vectors_(pattern),
+        residual_(pattern.size()),
+        preconditioned_(pattern.size()),
+        direction_(pattern.size()),
+        product_(pattern.size()) {}
+
+  /// `precondition(r, z)` sets z = M^-1 r. Returns the iterations and |r| / |b|.
+  template <class Preconditioner>
+  SolveReport run(const BlockPattern& a,
+                  const Eigen::VectorXd& b,
+                  Eigen::VectorXd& x,
+                  double tolerance,
+                  int max_iterations,
+                  const Preconditioner& precondition) {
+    SolveReport report;
+    double* r = residual_.data();
+    double* z = preconditioned_.data();
+    double* p = direction_.data();
+    double* q = product_.data();
+    double* xs = x.data();
+    const double* bs = b.data();
+
+    const double rhs_norm =
+        std::sqrt(vectors_.for_each_chunk([bs](Eigen::Index begin, Eigen::Index end) {
+          double sum = 0.0;
+          for (Eigen::Index i = begin; i < end; ++i) {
+            sum += bs[i] * bs[i];
+          }
+          return sum;
+        }));
+    if (rhs_norm == 0.0) {
+      x.setZero();
+      return report;
+    }
+    const double threshold = tolerance * rhs_norm;
+
+    a.multiply(x, product_);
+    double residual_norm =
+        std::sqrt(vectors_.for_each_chunk([r, bs, q](Eigen::Index begin, Eigen::Index end) {
+          double sum = 0.0;
+          for (Eigen::Index i = begin; i < end; ++i) {
+            r[i] = bs[i] - q[i];
+            sum += r[i] * r[i];
+          }
+          return sum;
+        }));
+    if (residual_norm > threshold) {
+      precondition(residual_, preconditioned_);
+      double rz = vectors_.for_each_chunk([r, z, p](Eigen::Index begin, Eigen::Index end) {
+        double sum = 0.0;
+        for (Eigen::Index i = begin; i < end; ++i) {
+          p[i] = z[i];
+          sum += r[i] * z[i];
+        }
+        return sum;
+      });
+      while (report.iterations < max_iterations) {
+        ++report.iterations;
+        a.multiply(direction_, product_, vectors_.chunk_sums());
+        const double curvature = vectors_.total();
+        if (!(curvature > 0.0) || !std::isfinite(rz)) {
+          break;  // not positive definite, or NaN: stop with what we have
+        }
+        const double alpha = rz / curvature;
+        residual_norm = std::sqrt(
+            vectors_.for_each_chunk([alpha, xs, r, p, q](Eigen::Index begin, Eigen::Index end) {
+              double sum = 0.0;
+              for (Eigen::Index i = begin; i < end; ++i) {
+                xs[i] += alpha * p[i];
+                r[i] -= alpha * q[i];
+                sum += r[i] * r[i];
+              }
+              return sum;
+            }));
+        if (residual_norm <= threshold) {
+          break;
+        }
+        precondition(residual_, preconditioned_);
+        const double rz_next =
+            vectors_.for_each_chunk([r, z](Eigen::Index begin, Eigen::Index end) {
+              double sum = 0.0;
+              for (Eigen::Index i = begin; i < end; ++i) {
+                sum += r[i] * z[i];
+              }
+              return sum;
+            });
+        const double beta = rz_next / rz;
+        rz = rz_next;
+        vectors_.for_each_chunk([beta, z, p](Eigen::Index begin, Eigen::Index end) {
+          for (Eigen::Index i = begin; i < end; ++i) {
+            p[i] = z[i] + beta * p[i];
+          }
+          return 0.0;
+        });
+      }
+    }
+    report.residual = relative(residual_norm, rhs_norm);
+    report.succeeded = std::isfinite(residual_norm);
+    return report;
+  }
+
+  std::size_t memory_bytes() const {
+    return 4 * static_cast<std::size_t>(residual_.size()) * sizeof(double)
+           + vectors_.memory_bytes();
+  }
+
+ private:
+  ChunkedVectors vectors_;
+  Eigen::VectorXd residual_;
+  Eigen::VectorXd preconditioned_;
+  Eigen::VectorXd direction_;
+  Eigen::VectorXd product_;
+};
+
+/// A fresh numeric factorisation every step (the values change), on the one symbolic analysis.
+class CholmodSolver final : public SystemSolver {
+ public:
+  explicit CholmodSolver(const BlockPattern& pattern)
+      : factor_(pattern.matrix(), /*supernodal=*/true), product_(pattern.size()) {}
+
+  SolveReport solve(const BlockPattern& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    SolveReport report;
+    report.factorizations = 1;
+    if (!factor_.factorize(a.matrix())) {
+      x.setConstant(std::numeric_limits<double>::quiet_NaN());
+      report.succeeded = false;
+      report.residual = std::numeric_limits<double>::quiet_NaN();
+      return report;
+    }
+    factor_.solve(b, x);
+    a.multiply(x, product_);
+    report.residual = relative((product_ - b).norm(), b.norm());
+    report.succeeded = std::isfinite(report.residual);
+    return report;
+  }
+
+  std::size_t memory_bytes() const override {
+    return factor_.memory_bytes() + static_cast<std::size_t>(product_.size()) * sizeof(double);
+  }
+
+ private:
+  CholmodFactor factor_;
+  Eigen::VectorXd product_;
+};
+
+/// Jacobi-preconditioned CG, warm-started from the caller's guess.
+class ConjugateGradientSolver final : public SystemSolver {
+ public:
+  ConjugateGradientSolver(const LinearSolverOptions& options, const BlockPattern& pattern)
+      : options_(options), iterations_(pattern), inverse_diagonal_(pattern.size()) {}
+
+  SolveReport solve(const BlockPattern& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    const double* values = a.matrix().valuePtr();
+    for (int v = 0; v < a.num_vertices(); ++v) {
+      const BlockEntries& diagonal = a.vertex_block(v);
+      for (int k = 0; k < 3; ++k) {
+        const double entry = values[diagonal[static_cast<std::size_t>(4 * k)]];
+        // Eigen's DiagonalPreconditioner: 1 where the diagonal is zero.
+        inverse_diagonal_(3 * v + k) = entry != 0.0 ? 1.0 / entry : 1.0;
+      }
+    }
+    return iterations_.run(a, b, x, options_.tolerance, options_.max_iterations,
+                           [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+                             z = inverse_diagonal_.cwiseProduct(r);
+                           });
+  }
+
+  std::size_t memory_bytes() const override {
+    return iterations_.memory_bytes()
+           + static_cast<std::size_t>(inverse_diagonal_.size()) * sizeof(double);
+  }
+
+ private:
+  LinearSolverOptions options_;
+  PcgIterations iterations_;
+  Eigen::VectorXd inverse_diagonal_;
+};
+
+/// CG preconditioned by the Cholesky factor of an earlier step's matrix (in the spirit of Hecht
+/// et al. 2012, who update a factor selectively instead of refactorising): the factor is kept
+/// while the iterations it needs stay at or below refresh_iterations, and replaced by the
+/// current matrix's when they exceed it. A solve that fails to converge with a stale factor is
+/// redone with a fresh one, so the cap bounds the work but not the accuracy.
+class CholeskyPcgSolver final : public SystemSolver {
+ public:
+  CholeskyPcgSolver(const LinearSolverOptions& options, const BlockPattern& pattern)
+      : options_(options), factor_(pattern.matrix(), /*supernodal=*/true), iterations_(pattern) {}
+
+  SolveReport solve(const BlockPattern& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+    int factorizations = 0;
+    if (stale_) {
+      if (!refactorize(a)) {
+        return failed(x);
+      }
+      ++factorizations;
+    }
+    const auto precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+      factor_.solve(r, z);
+    };
+    SolveReport report =
+        iterations_.run(a, b, x, options_.tolerance, options_.max_iterations, precondition);
+    if (report.residual > options_.tolerance && factorizations == 0) {
+      // The old factor no longer preconditions this matrix: refactorise and continue from x.
+      if (!refactorize(a)) {
+        return failed(x);
+      }
+      ++factorizations;
+      const int spent = report.iterations;
+      report = iterations_.run(a, b, x, options_.tolerance, options_.max_iterations, precondition);
+      report.iterations += spent;
+    }
+    stale_ = report.iterations > options_.refresh_iterations;
+    report.factorizations = factorizations;
+    return report;
+  }
+
+  std::size_t memory_bytes() const override {
+    return factor_.memory_bytes() + iterations_.memory_bytes();
+  }
+
+ private:
+  bool refactorize(const BlockPattern& a) {
+    stale_ = false;
+    return factor_.factorize(a.matrix());
+  }
+  SolveReport failed(Eigen::VectorXd& x) {
+    stale_ = true;
+    x.setConstant(std::numeric_limits<double>::quiet_NaN());
+    SolveReport report;
+    report.factorizations = 1;
+    report.succeeded = false;
+    report.residual = std::numeric_limits<double>::quiet_NaN();
+    return report;
+  }
+
+  LinearSolverOptions options_;
+  CholmodFactor factor_;
+  PcgIterations iterations_;
+  bool stale_ = true;  ///< no factor yet, or the last solve needed too many iterations
+};
+
+}  // namespace
+
+std::unique_ptr<SystemSolver> make_system_solver(const LinearSolverOptions& options,
+                                                 const BlockPattern& pattern) {
+  switch (options.kind) {
+    case LinearSolverOptions::Kind::kCholmod:
+      return std::make_unique<CholmodSolver>(pattern);
+    case LinearSolverOptions::Kind::kCholeskyPcg:
+      return std::make_unique<CholeskyPcgSolver>(options, pattern);
+    case LinearSolverOptions::Kind::kConjugateGradient:
+      break;
+  }
+  return std::make_unique<ConjugateGradientSolver>(options, pattern);
+}
+
+}  // namespace softbench
