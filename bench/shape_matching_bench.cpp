@@ -33,7 +33,7 @@
 //     10000         54.9     119     133          89.8      203     220
 //   Linear in the particles; K > 1 doubles the memberships (each particle in ~2 clusters) and
 //   adds K rotations; quadratic costs ~1.6x linear. (At 10000 particles with K > 1 the working
-//   set, ~2 MB, leaves L2: ~10% more per particle.)
+//   set, ~2 MB, leaves L2: ~15% more per particle.)
 //   BM_HundredObjects: 0.50 ms per frame of 100 bodies (~2000 frames/s; the thesis: 50 FPS).
 //   BM_ShapeMatchingLiver, 1 thread (CPU / real-time medians, steps/s): thesis 64 us (15,600 /
 //   10,400 under load), thesis+svd 88 us (11,400), linear 44 us (22,600), one_cluster 22 us,

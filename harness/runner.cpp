@@ -204,7 +204,8 @@ std::vector<ModelRun> run_scene(const scenes::Scene& scene, const RunOptions& op
     builtin_models().at(name);  // an unknown name fails before any model runs
   }
   for (const auto& [name, block] : scene.model_parameters) {
-    if (!builtin_models().contains(name)) {
+    // A block for a model this build leaves out is not an error in the scene.
+    if (!builtin_models().contains(name) && !builtin_models().unavailable(name)) {
       try {
         builtin_models().at(name);
       } catch (const InputError& error) {

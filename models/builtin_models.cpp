@@ -19,6 +19,10 @@ ModelRegistry make_builtin_registry() {
 #if SOFTBENCH_WITH_BULLET
   registry.add(bullet_deformable_info());
   registry.add(bullet_softbody_info());
+#else
+  for (const char* name : {"bullet_deformable", "bullet_softbody"}) {
+    registry.add_unavailable(name, "configured with SOFTBENCH_WITH_BULLET=OFF");
+  }
 #endif
   return registry;
 }

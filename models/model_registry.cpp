@@ -14,8 +14,20 @@ void ModelRegistry::add(ModelInfo info) {
   }
 }
 
+void ModelRegistry::add_unavailable(std::string name, std::string reason) {
+  unavailable_.emplace(std::move(name), std::move(reason));
+}
+
+bool ModelRegistry::unavailable(std::string_view name) const {
+  return unavailable_.contains(name);
+}
+
 const ModelInfo& ModelRegistry::at(std::string_view name) const {
   const auto found = models_.find(name);
+  if (const auto left_out = unavailable_.find(name); left_out != unavailable_.end()) {
+    throw InputError("model \"" + std::string(name) + "\" is not in this build (" + left_out->second
+                     + ")");
+  }
   if (found == models_.end()) {
     std::string known;
     for (const auto& [key, info] : models_) {

@@ -43,13 +43,18 @@ struct ModelInfo {
 /// explicit list is greppable and testable.
 class ModelRegistry {
  public:
-  void add(ModelInfo info);                          ///< throws std::logic_error on a duplicate
+  void add(ModelInfo info);  ///< throws std::logic_error on a duplicate
+  /// A model this build leaves out (e.g. Bullet's without SOFTBENCH_WITH_BULLET): scenes may
+  /// still carry its parameter block, and asking for it names `reason`.
+  void add_unavailable(std::string name, std::string reason);
+  bool unavailable(std::string_view name) const;
   const ModelInfo& at(std::string_view name) const;  ///< throws InputError listing known names
   bool contains(std::string_view name) const;
   std::vector<std::string> names() const;  ///< sorted; drives tests, benchmarks and the CLI
 
  private:
   std::map<std::string, ModelInfo, std::less<>> models_;
+  std::map<std::string, std::string, std::less<>> unavailable_;
 };
 
 /// Every model of this build, registered once (models/builtin_models.cpp).

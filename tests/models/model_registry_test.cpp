@@ -42,3 +42,22 @@ TEST(ModelRegistry, RefusesToRegisterANameTwice) {
 
 }  // namespace
 }  // namespace softbench
+
+namespace softbench {
+namespace {
+
+TEST(ModelRegistry, NamesTheReasonAModelIsNotInThisBuild) {
+  ModelRegistry registry;
+  registry.add_unavailable("bullet_softbody", "configured with SOFTBENCH_WITH_BULLET=OFF");
+  EXPECT_TRUE(registry.unavailable("bullet_softbody"));
+  EXPECT_FALSE(registry.contains("bullet_softbody"));
+  try {
+    registry.at("bullet_softbody");
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), ::testing::HasSubstr("not in this build (configured with"));
+  }
+}
+
+}  // namespace
+}  // namespace softbench
