@@ -22,12 +22,42 @@
 // count; on liver.msh with one thread also cg with other tolerances, rotation methods and the
 // linear formulation (what the defaults trade).
 //
-// Threads: T is set with omp_set_num_threads inside the benchmark. CHOLMOD calls OpenBLAS,
-// whose pthreads are separate (OPENBLAS_NUM_THREADS). Run with OMP_WAIT_POLICY=passive when the
-// CHOLMOD variants matter (its OpenMP threads otherwise spin on the cores OpenBLAS needs); the
-// CG variants' short parallel regions prefer the default (active) policy. The machine is shared
-// and noisy: run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and
-// quote medians.
+// Threads: T is set with omp_set_num_threads inside the benchmark. The model parallelises from
+// 16384 elements / 2048 vertices up, so liver.msh runs serially whatever T (see
+// corotational_fem_step.cpp: on a shared 2-core machine its short regions lose more to a
+// descheduled thread than they gain). CHOLMOD calls OpenBLAS, whose pthreads are separate
+// (OPENBLAS_NUM_THREADS): run the CHOLMOD variants with OMP_WAIT_POLICY=passive (our idle OpenMP
+// threads otherwise spin on the cores OpenBLAS needs: liver_x4 107 -> 82 ms), the CG variants
+// with the default policy (passive makes every one of CG's short regions pay a wake-up: x4 with
+// 2 threads 7.0 -> 16 ms). The machine is shared and noisy: run with --benchmark_repetitions=5
+// --benchmark_report_aggregates_only=true and quote medians.
+//
+// Results (2026-11-22, this 2-core Xeon VM, AVX-512 capable but built for baseline x86-64, shared
+// with other jobs: load 1-2 during the run, run-to-run CV up to 14%; medians of 5 repetitions).
+// ms per step, steps/s, mean CG iterations, phases (rotations / assembly / solve ms), and
+// cholmod_match:
+//
+//   liver.msh (1215 v, 4777 tets)   1 thread                     2 threads
+//   cholmod                         17.1 ms   59/s  0.22/0.67/16.2   17.0 ms   59/s
+//   cg (default)                    1.46 ms  683/s  15.3 it, 0.18/0.59/0.68, match 0.099%
+//                                                                  1.44 ms  693/s (serial: below
+//                                                                  the parallel thresholds)
+//   cholesky_pcg                    2.15 ms  466/s  2.8 it, 0.003 fact/step, match 0.053%
+//   liver_x4.msh (4091 v, 22861)
+//   cholmod                          107 ms  9.3/s                   151 ms (82 / 96 passive)
+//   cg                              9.71 ms  103/s  29.9 it, 0.74/2.85/6.09, match 0.075%
+//                                                                  6.98 ms  143/s
+//   cholesky_pcg                    22.4 ms   45/s  5.0 it, 0.06 fact/step
+//   liver_x16.msh (14562 v, 84530)
+//   cholmod                          650 ms  1.5/s                   661 ms
+//   cg                              64.6 ms   15/s  50.8 it, 3.89/17.6/42.8, match 0.073%
+//                                                                  40.3 ms   25/s
+//   cholesky_pcg                     274 ms  3.7/s  4.5 it, 0.25 fact/step
+//
+// cg on liver.msh, one thread: tolerance 3e-2 / 1e-3 / 1e-4: 1.29 / 1.90 / 2.37 ms (11.5 / 24.9 /
+// 35.7 it; match 0.32% / 0.027% / 0.0014%). Rotations: 1 / 2 quaternion iterations 1.44 / 1.41
+// ms (exact_match 1.9% / 0.41%, default 3: 0.15%); SVD 4.24 ms (rotations 2.89 ms). Linear FEM
+// 1.06 ms (10.2 it).
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"

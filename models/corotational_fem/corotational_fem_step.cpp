@@ -11,9 +11,14 @@
 namespace softbench::corotational_fem {
 namespace {
 
-/// Loops over fewer items run on one thread. An element costs ~0.1-0.5 us and a vertex or edge
-/// gather ~0.05-0.1 us, so from ~1000 items the work (50+ us) dwarfs a parallel region's start.
-constexpr int kParallelThreshold = 1000;
+/// Loops over fewer elements run on one thread; the vertex and edge gathers follow the vertex
+/// count (BlockPattern::kParallelVertices, as the CG products do). Measured on the 2-core test
+/// machine: on the shipped liver (4777 tets, ~0.2 ms per element pass) two threads save ~0.25 ms
+/// of a 1.6 ms step when both cores are idle, but when another job holds a core every region
+/// waits for the descheduled thread (a scheduler time slice): the step took 35 ms instead of
+/// 1.6. From liver_x4 (22861 tets, ~1 ms per pass) the gain outweighs that risk.
+constexpr int kParallelElements = 16384;
+constexpr int kParallelVertices = BlockPattern::kParallelVertices;
 
 /// Adds the wall time since the previous lap to one phase of `times` (no-op when null).
 class PhaseClock {
@@ -45,7 +50,7 @@ void CorotationalFemModel::update_deformations(bool hold_rotations) {
   // Blocks of elements: F for the block, then its rotations (vectorised across elements).
   constexpr int kBlock = 64;
   const int num_blocks = (num_elements_ + kBlock - 1) / kBlock;
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
   for (int block = 0; block < num_blocks; ++block) {
     const int first = block * kBlock;
     const int last = std::min(num_elements_, first + kBlock);
@@ -78,7 +83,7 @@ void CorotationalFemModel::update_deformations(bool hold_rotations) {
 void CorotationalFemModel::compute_element_terms(double velocity_weight, double force_scale) {
   const bool corotational =
       params_.formulation == CorotationalFemParams::Formulation::kCorotational;
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
   for (int t = 0; t < num_elements_; ++t) {
     const auto e = static_cast<std::size_t>(t);
     const TetRest& rest = elements_[e];
@@ -109,7 +114,7 @@ void CorotationalFemModel::assemble(double mass_coefficient,
   const double lambda = lame_.lambda;
   const double mu = lame_.mu;
   const double mass_damping = params_.rayleigh_mass;
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int v = 0; v < num_vertices_; ++v) {
     Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
     double inner = 0.0;
@@ -143,7 +148,7 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     rhs_.segment<3>(3 * v) = rhs + dt * force;
   }
   const auto num_edges = static_cast<int>(edge_offsets_.size()) - 1;
-#pragma omp parallel for schedule(static) if (num_edges > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int edge = 0; edge < num_edges; ++edge) {
     Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
     double inner = 0.0;
@@ -203,7 +208,7 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
   const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_);
   clock.lap(&PhaseTimes::solve);
 
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int v = 0; v < num_vertices_; ++v) {
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_exact(constraint)) {

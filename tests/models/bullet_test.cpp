@@ -7,6 +7,7 @@
 #include "geometry/mesh_validation.h"
 #include "models/bullet/bullet_soft_body.h"
 #include "models/model_registry.h"
+#include "tests/model_test_support.h"
 #include "tests/test_meshes.h"
 
 #include <gmock/gmock.h>
@@ -20,6 +21,8 @@
 
 namespace softbench {
 namespace {
+
+using test::pin_min_x_face;
 
 using ::testing::HasSubstr;
 using DeformableParams = BulletDeformableParams;
@@ -35,16 +38,6 @@ const Material kLiver{3000.0, 0.3, 1060.0};
 const TetMesh& small_box() {
   static const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.12, 0.08, 0.08));
   return mesh;
-}
-
-std::vector<PositionConstraint> pin_min_x_face(const TetMesh& mesh) {
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (mesh.rest_positions()(0, v) <= 1e-12) {
-      pins.push_back({v, mesh.rest_positions().col(v), kExact});
-    }
-  }
-  return pins;
 }
 
 std::vector<int> max_x_face(const TetMesh& mesh) {

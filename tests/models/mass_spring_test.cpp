@@ -4,6 +4,7 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
+#include "tests/model_test_support.h"
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
 
@@ -20,49 +21,16 @@
 namespace softbench {
 namespace {
 
+using test::no_gravity;
+using test::pin_all;
+using test::pin_min_x_face;
+using test::place_at_rest;
+
 using ::testing::HasSubstr;
 using Params = MassSpringParams;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
-
-/// Holds every vertex at `targets`.
-std::vector<PositionConstraint> pin_all(const Eigen::Matrix3Xd& targets) {
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < targets.cols(); ++v) {
-    pins.push_back({v, targets.col(v), kExact});
-  }
-  return pins;
-}
-
-/// Exact pins on every vertex with x <= min x (+ a hair): one face of a box.
-std::vector<PositionConstraint> pin_min_x_face(const TetMesh& mesh) {
-  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
-  const double min_x = rest.row(0).minCoeff();
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (rest(0, v) <= min_x + 1e-12) {
-      pins.push_back({v, rest.col(v), kExact});
-    }
-  }
-  return pins;
-}
-
-StepInput no_gravity(std::span<const PositionConstraint> constraints = {}) {
-  StepInput input;
-  input.gravity.setZero();
-  input.constraints = constraints;
-  return input;
-}
-
-/// Puts the body at `targets` with zero velocity: the first exact step lands it there, the
-/// second holds it, leaving v = (target - target) / dt = 0 exactly.
-void place_at_rest(SoftBody& body, const Eigen::Matrix3Xd& targets) {
-  const std::vector<PositionConstraint> pins = pin_all(targets);
-  constexpr double kDt = 0.01;
-  body.step(kDt, no_gravity(pins));
-  body.step(kDt, no_gravity(pins));
-}
 
 double kinetic_energy(const SoftBody& body, const Eigen::VectorXd& masses) {
   return 0.5

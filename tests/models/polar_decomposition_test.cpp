@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <vector>
 
 namespace softbench::corotational_fem {
 namespace {
@@ -144,6 +145,41 @@ TEST(ExtractRotation, TracksASteadilyRotatingElementWithTwoIterationsPerStep) {
     const double lag = Eigen::AngleAxisd(tracked.toRotationMatrix() * rotation.transpose()).angle();
     ASSERT_LT(lag, 0.25 * step) << "step " << n;
   }
+}
+
+TEST(ExtractRotations, MatchesTheIterationOneElementAtATime) {
+  // 37 elements: two full batches of 16 and a partial one. A tolerance below reach keeps every
+  // element iterating, so the batched and the scalar iteration take the same steps.
+  std::mt19937 random(8);
+  std::vector<Eigen::Matrix3d> deformations;
+  std::vector<Eigen::Quaterniond> batched;
+  for (int k = 0; k < 37; ++k) {
+    deformations.push_back(random_rotation(random, 2.5) * random_stretch(random, 0.5, 1.5));
+    batched.emplace_back(random_rotation(random, 0.5));
+  }
+  std::vector<Eigen::Quaterniond> single = batched;
+  std::vector<Eigen::Matrix3d> matrices(deformations.size());
+  constexpr int kIterations = 5;
+  extract_rotations(deformations, batched, matrices, kIterations, 1e-300);
+  for (std::size_t k = 0; k < deformations.size(); ++k) {
+    extract_rotation(deformations[k], single[k], kIterations, 1e-300);
+    EXPECT_TRUE(batched[k].coeffs().isApprox(single[k].coeffs(), kRotationRoundoff)) << k;
+    EXPECT_TRUE(matrices[k].isApprox(batched[k].toRotationMatrix(), kRotationRoundoff)) << k;
+  }
+}
+
+TEST(ExtractRotations, StopsABatchOnlyWhenAllItsElementsConverged) {
+  // Element 0 starts at its answer, element 1 far from it: the batch keeps iterating for
+  // element 1, and element 0 stays at its answer (its updates are zero to round-off).
+  std::mt19937 random(9);
+  const Eigen::Matrix3d rotation = random_rotation(random, 2.0);
+  const std::vector<Eigen::Matrix3d> deformations{rotation, rotation};
+  std::vector<Eigen::Quaterniond> rotations{Eigen::Quaterniond(rotation),
+                                            Eigen::Quaterniond::Identity()};
+  std::vector<Eigen::Matrix3d> matrices(2);
+  extract_rotations(deformations, rotations, matrices, kColdStartIterations, kConvergedTolerance);
+  EXPECT_TRUE(matrices[0].isApprox(rotation, kRotationRoundoff));
+  EXPECT_TRUE(matrices[1].isApprox(rotation, kConvergedAgreement));
 }
 
 TEST(ExtractRotation, KeepsItsRotationForACollapsedOrNonFiniteElement) {

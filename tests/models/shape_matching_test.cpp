@@ -8,6 +8,7 @@
 #include "models/shape_matching/cluster_matching.h"
 #include "models/shape_matching/rotation_extraction.h"
 #include "models/shape_matching/shape_matching_model.h"
+#include "tests/model_test_support.h"
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
 
@@ -28,6 +29,11 @@
 
 namespace softbench {
 namespace {
+
+using test::no_gravity;
+using test::pin_all;
+using test::pin_min_x_face;
+using test::place_at_rest;
 
 using ::testing::HasSubstr;
 using Params = ShapeMatchingParams;
@@ -82,41 +88,6 @@ Params thesis(int clusters, int particles_per_cluster = 96) {
   params.alpha = 0.72;
   params.beta = 0.63;
   return params;
-}
-
-std::vector<PositionConstraint> pin_all(const Eigen::Matrix3Xd& targets) {
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < targets.cols(); ++v) {
-    pins.push_back({v, targets.col(v), kExact});
-  }
-  return pins;
-}
-
-std::vector<PositionConstraint> pin_min_x_face(const TetMesh& mesh) {
-  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
-  const double min_x = rest.row(0).minCoeff();
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (rest(0, v) <= min_x + 1e-12) {
-      pins.push_back({v, rest.col(v), kExact});
-    }
-  }
-  return pins;
-}
-
-StepInput no_gravity(std::span<const PositionConstraint> constraints = {}) {
-  StepInput input;
-  input.gravity.setZero();
-  input.constraints = constraints;
-  return input;
-}
-
-/// Puts the body at `targets` with zero velocity: the first exact step lands it there, the
-/// second holds it, leaving v = (target - target) / dt = 0 exactly.
-void place_at_rest(SoftBody& body, const Eigen::Matrix3Xd& targets) {
-  const std::vector<PositionConstraint> pins = pin_all(targets);
-  body.step(kDt, no_gravity(pins));
-  body.step(kDt, no_gravity(pins));
 }
 
 /// RMS distance (over vertices) from `positions` to the best rigid placement of the rest shape

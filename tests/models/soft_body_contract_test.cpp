@@ -4,6 +4,7 @@
 #include "geometry/mesh_validation.h"
 #include "models/model_registry.h"
 #include "models/soft_body.h"
+#include "tests/model_test_support.h"
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
 
@@ -17,6 +18,8 @@
 
 namespace softbench {
 namespace {
+
+using test::pin_min_x_face;
 
 /// A 12 x 8 x 8 cm box of 3 x 2 x 2 cells: small, but with interior and boundary vertices.
 const TetMesh& small_box() {
@@ -32,18 +35,6 @@ constexpr double kDt = 1.0 / 60.0;
 
 /// Positions are O(0.1 m) and a few dozen flops deep: this is round-off.
 constexpr double kPositionRoundoff = 1e-14;
-
-std::vector<PositionConstraint> pin_min_x_face(const TetMesh& mesh) {
-  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
-  const double min_x = rest.row(0).minCoeff();
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (rest(0, v) <= min_x + 1e-12) {
-      pins.push_back({v, rest.col(v), kExact});
-    }
-  }
-  return pins;
-}
 
 class SoftBodyContract : public ::testing::TestWithParam<std::string> {
  protected:
