@@ -8,6 +8,7 @@
 #include "models/block_pattern.h"
 #include "models/corotational_fem/corotational_fem_model.h"
 #include "models/model_registry.h"
+#include "tests/model_test_support.h"
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
 
@@ -29,6 +30,11 @@
 
 namespace softbench {
 namespace {
+
+using test::no_gravity;
+using test::pin_all;
+using test::pin_min_x_face;
+using test::place_at_rest;
 
 using ::testing::HasSubstr;
 using Params = CorotationalFemParams;
@@ -85,42 +91,6 @@ Params converged_quaternion() {
   params.rotation_iterations = 200;
   params.rotation_tolerance = 1e-14;
   return params;
-}
-
-std::vector<PositionConstraint> pin_all(const Eigen::Matrix3Xd& targets) {
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < targets.cols(); ++v) {
-    pins.push_back({v, targets.col(v), kExact});
-  }
-  return pins;
-}
-
-/// Exact pins on every vertex with x <= min x (+ a hair): one face of a box.
-std::vector<PositionConstraint> pin_min_x_face(const TetMesh& mesh) {
-  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
-  const double min_x = rest.row(0).minCoeff();
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (rest(0, v) <= min_x + 1e-12) {
-      pins.push_back({v, rest.col(v), kExact});
-    }
-  }
-  return pins;
-}
-
-StepInput no_gravity(std::span<const PositionConstraint> constraints = {}) {
-  StepInput input;
-  input.gravity.setZero();
-  input.constraints = constraints;
-  return input;
-}
-
-/// Puts the body at `targets` with zero velocity: the first exact step lands it there, the
-/// second holds it, leaving v = (target - target) / dt = 0 exactly.
-void place_at_rest(SoftBody& body, const Eigen::Matrix3Xd& targets) {
-  const std::vector<PositionConstraint> pins = pin_all(targets);
-  body.step(kDt, no_gravity(pins));
-  body.step(kDt, no_gravity(pins));
 }
 
 double kinetic_energy(const SoftBody& body, const Eigen::VectorXd& masses) {
