@@ -126,4 +126,34 @@ std::size_t ConstraintElimination::memory_bytes() const {
          + (saved_values_.capacity() + saved_rhs_.capacity()) * sizeof(double);
 }
 
+void exact_velocity_changes(const VertexConstraints& constraints,
+                            const Eigen::Matrix3Xd& positions,
+                            const Eigen::Matrix3Xd& velocities,
+                            double dt,
+                            Eigen::Matrix3Xd& changes) {
+  for (const int v : constraints.exact_vertices()) {
+    changes.col(v) = (constraints.of(v)->target - positions.col(v)) / dt - velocities.col(v);
+  }
+}
+
+void implicit_reactions(const ConstraintElimination& elimination,
+                        const BlockPattern& pattern,
+                        const VertexConstraints& constraints,
+                        const Eigen::Matrix3Xd& positions,
+                        const Eigen::VectorXd& velocity_change,
+                        double dt,
+                        Eigen::Matrix3Xd& forces) {
+  forces.setZero();
+  for (const int v : constraints.vertices()) {
+    const PositionConstraint* constraint = constraints.of(v);
+    if (is_penalty(constraint)) {
+      forces.col(v) = constraint->stiffness * (constraint->target - positions.col(v));
+    }
+  }
+  elimination.constrained_residuals(pattern, velocity_change, forces);
+  for (const int v : constraints.exact_vertices()) {
+    forces.col(v) /= dt;
+  }
+}
+
 }  // namespace softbench

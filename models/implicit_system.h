@@ -86,4 +86,23 @@ class ConstraintElimination {
   std::vector<double> saved_rhs_;     ///< 3 per saved vertex
 };
 
+/// The velocity change that lands each exact vertex on its target at the end of a step of dt:
+/// (target - x) / dt - v, written to changes.col(c) (3 x #V; other columns untouched).
+void exact_velocity_changes(const VertexConstraints& constraints,
+                            const Eigen::Matrix3Xd& positions,
+                            const Eigen::Matrix3Xd& velocities,
+                            double dt,
+                            Eigen::Matrix3Xd& changes);
+
+/// The constraint forces (3 x #V) after a backward Euler velocity solve: a penalty constraint's
+/// spring force at the end of the step (`positions` already updated), an exact one's
+/// (A dv - b)_c / dt with the rows as assembled (mass, damping, elastic and gravity terms).
+void implicit_reactions(const ConstraintElimination& elimination,
+                        const BlockPattern& pattern,
+                        const VertexConstraints& constraints,
+                        const Eigen::Matrix3Xd& positions,
+                        const Eigen::VectorXd& velocity_change,
+                        double dt,
+                        Eigen::Matrix3Xd& forces);
+
 }  // namespace softbench

@@ -171,27 +171,13 @@ void CorotationalFemModel::assemble(double mass_coefficient,
 }
 
 void CorotationalFemModel::eliminate_exact_constraints(double dt) {
-  for (const int v : constraints_.exact_vertices()) {
-    known_changes_.col(v) =
-        (constraints_.of(v)->target - positions_.col(v)) / dt - velocities_.col(v);
-  }
+  exact_velocity_changes(constraints_, positions_, velocities_, dt, known_changes_);
   elimination_.eliminate(*pattern_, constraints_, known_changes_, rhs_, velocity_change_);
 }
 
 void CorotationalFemModel::compute_reactions(double dt) {
-  constraint_forces_.setZero();
-  for (const int v : constraints_.vertices()) {
-    const PositionConstraint* constraint = constraints_.of(v);
-    if (is_penalty(constraint)) {
-      // The backward Euler penalty force, evaluated at the end of the step.
-      constraint_forces_.col(v) = constraint->stiffness * (constraint->target - positions_.col(v));
-    }
-  }
-  // (A dv - b)_c with the rows as assembled: mass, damping, elastic and gravity terms.
-  elimination_.constrained_residuals(*pattern_, velocity_change_, constraint_forces_);
-  for (const int v : constraints_.exact_vertices()) {
-    constraint_forces_.col(v) /= dt;
-  }
+  implicit_reactions(elimination_, *pattern_, constraints_, positions_, velocity_change_, dt,
+                     constraint_forces_);
 }
 
 StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, PhaseTimes* times) {
