@@ -26,6 +26,7 @@
 //
 // The machine is shared and noisy: run with --benchmark_repetitions=3 and quote medians;
 // OMP_WAIT_POLICY=passive as for step_bench. Bullet runs single-threaded.
+#include "bench/bench_liver.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
@@ -145,15 +146,6 @@ std::vector<Variant> stability_variants() {
   return result;
 }
 
-const TetMesh& liver(const std::string& name) {
-  static std::map<std::string, TetMesh> loaded;
-  auto found = loaded.find(name);
-  if (found == loaded.end()) {
-    found = loaded.emplace(name, make_tet_mesh(read_mesh(scenes::shipped_data_file(name)))).first;
-  }
-  return found->second;
-}
-
 /// What our models measured, by mesh then label, for the Bullet variants' ratios.
 std::map<std::string, std::map<std::string, double>>& our_step_seconds() {
   static std::map<std::string, std::map<std::string, double>> seconds;
@@ -186,7 +178,7 @@ Setting make_setting(const Variant& variant, const TetMesh& mesh) {
 }
 
 void step_benchmark(benchmark::State& state, const Variant& variant, const std::string& name) {
-  const TetMesh& mesh = liver(name);
+  const TetMesh& mesh = bench::shipped_liver(name);
   const double dt = variant.dt > 0.0 ? variant.dt : liver_scene().dt;
   Setting setting = make_setting(variant, mesh);
   for (int step = 0; step < kWarmUpSteps; ++step) {
@@ -258,7 +250,7 @@ bool survives(const Variant& variant,
 }
 
 void stable_dt_benchmark(benchmark::State& state, const Variant& variant, const std::string& name) {
-  const TetMesh& mesh = liver(name);
+  const TetMesh& mesh = bench::shipped_liver(name);
   double largest = 0.0;
   double step_seconds = 0.0;
   double final_speed = 0.0;

@@ -58,6 +58,7 @@
 // 35.7 it; match 0.32% / 0.027% / 0.0014%). Rotations: 1 / 2 quaternion iterations 1.44 / 1.41
 // ms (exact_match 1.9% / 0.41%, default 3: 0.15%); SVD 4.24 ms (rotations 2.89 ms). Linear FEM
 // 1.06 ms (10.2 it).
+#include "bench/bench_liver.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
@@ -128,27 +129,6 @@ std::vector<Variant> variants() {
   return result;
 }
 
-const TetMesh& liver(const std::string& name) {
-  static std::map<std::string, TetMesh> loaded;
-  auto found = loaded.find(name);
-  if (found == loaded.end()) {
-    found = loaded.emplace(name, make_tet_mesh(read_mesh(scenes::shipped_data_file(name)))).first;
-  }
-  return found->second;
-}
-
-std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh) {
-  const Eigen::Matrix<double, 3, 2> bounds = bounding_box(mesh.rest_positions());
-  const double limit = bounds(0, 0) + 0.1 * (bounds(0, 1) - bounds(0, 0));
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (mesh.rest_positions()(0, v) < limit) {
-      pins.push_back({v, mesh.rest_positions().col(v), kExact});
-    }
-  }
-  return pins;
-}
-
 /// Positions after kMatchSteps steps from rest, cached per mesh and parameter set.
 const Eigen::Matrix3Xd& positions_after_match_steps(const std::string& mesh_name,
                                                     const Params& params) {
@@ -156,9 +136,9 @@ const Eigen::Matrix3Xd& positions_after_match_steps(const std::string& mesh_name
   const std::string key = mesh_name + corotational_fem::param_table().to_json(params).dump();
   auto found = cache.find(key);
   if (found == cache.end()) {
-    const TetMesh& mesh = liver(mesh_name);
+    const TetMesh& mesh = bench::shipped_liver(mesh_name);
     CorotationalFemModel model(mesh, kLiverMaterial, params);
-    const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
+    const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
     StepInput input;
     input.gravity = {0.0, 0.0, -9.81};
     input.constraints = pins;
@@ -174,7 +154,7 @@ const Eigen::Matrix3Xd& positions_after_match_steps(const std::string& mesh_name
 double match(const std::string& mesh_name, const Params& params, const Params& reference) {
   const Eigen::Matrix3Xd& x = positions_after_match_steps(mesh_name, params);
   const Eigen::Matrix3Xd& x_reference = positions_after_match_steps(mesh_name, reference);
-  const Eigen::Matrix3Xd& rest = liver(mesh_name).rest_positions();
+  const Eigen::Matrix3Xd& rest = bench::shipped_liver(mesh_name).rest_positions();
   return std::sqrt((x - x_reference).colwise().squaredNorm().mean()
                    / (x_reference - rest).colwise().squaredNorm().mean());
 }
@@ -184,9 +164,9 @@ void fem_step(benchmark::State& state,
               const std::string& mesh_name,
               int threads) {
   omp_set_num_threads(threads);
-  const TetMesh& mesh = liver(mesh_name);
+  const TetMesh& mesh = bench::shipped_liver(mesh_name);
   CorotationalFemModel model(mesh, kLiverMaterial, variant.params);
-  const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
+  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
   StepInput input;
   input.gravity = {0.0, 0.0, -9.81};
   input.constraints = pins;

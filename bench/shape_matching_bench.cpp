@@ -40,6 +40,7 @@
 //   linear_one_cluster 17.5 us. 2 threads: no gain on this loaded machine (72 us at best,
 //   0.2-5 ms when the other core was busy: a thread descheduled at a barrier); on a quiet
 //   machine an earlier build gave 83 -> 63 us.
+#include "bench/bench_liver.h"
 #include "geometry/mesh_data.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
@@ -160,23 +161,6 @@ MeshData grid_box(int nx, int ny, int nz, double h) {
   return data;
 }
 
-const TetMesh& liver() {
-  static const TetMesh mesh = make_tet_mesh(read_mesh(scenes::shipped_data_file("liver.msh")));
-  return mesh;
-}
-
-std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh) {
-  const Eigen::Matrix<double, 3, 2> bounds = bounding_box(mesh.rest_positions());
-  const double limit = bounds(0, 0) + 0.1 * (bounds(0, 1) - bounds(0, 0));
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (mesh.rest_positions()(0, v) < limit) {
-      pins.push_back({v, mesh.rest_positions().col(v), kExact});
-    }
-  }
-  return pins;
-}
-
 // ---------------------------------------------------------------------------------------------
 // The hundred objects
 
@@ -247,9 +231,9 @@ std::vector<LiverMode> liver_modes() {
 
 void liver_benchmark(benchmark::State& state, const Params& params, int threads) {
   omp_set_num_threads(threads);
-  const TetMesh& mesh = liver();
+  const TetMesh& mesh = bench::shipped_liver("liver.msh");
   const std::unique_ptr<SoftBody> body = make_shape_matching(mesh, kLiverMaterial, params);
-  const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
+  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
   StepInput input;
   input.constraints = pins;
   for (int step = 0; step < kWarmUpSteps; ++step) {

@@ -6,6 +6,7 @@
 // Time is wall-clock (the models may use OpenMP threads). On a machine with few cores, run with
 // OMP_WAIT_POLICY=passive: CHOLMOD's OpenMP threads otherwise spin-wait on the cores its
 // OpenBLAS threads need (liver.msh's factorisation: 30 ms instead of 16 ms on 2 cores).
+#include "bench/bench_liver.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
@@ -61,37 +62,14 @@ std::vector<Variant> variants() {
   return result;
 }
 
-/// Each liver read and validated once per process, on first use (not at registration, so
-/// running one benchmark does not load all three).
-const TetMesh& liver(const std::string& name) {
-  static std::map<std::string, TetMesh> loaded;
-  auto found = loaded.find(name);
-  if (found == loaded.end()) {
-    found = loaded.emplace(name, make_tet_mesh(read_mesh(scenes::shipped_data_file(name)))).first;
-  }
-  return found->second;
-}
-
-std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh) {
-  const Eigen::Matrix<double, 3, 2> bounds = bounding_box(mesh.rest_positions());
-  const double limit = bounds(0, 0) + 0.1 * (bounds(0, 1) - bounds(0, 0));
-  std::vector<PositionConstraint> pins;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (mesh.rest_positions()(0, v) < limit) {
-      pins.push_back({v, mesh.rest_positions().col(v), kExact});
-    }
-  }
-  return pins;
-}
-
 void step_benchmark(benchmark::State& state, const Variant& variant, const std::string& mesh_name) {
-  const TetMesh& mesh = liver(mesh_name);
+  const TetMesh& mesh = bench::shipped_liver(mesh_name);
   const Material material{3000.0, 0.3, 1060.0};
   const std::unique_ptr<SoftBody> body =
       builtin_models()
           .at(variant.model)
           .create(mesh, material, variant.params, ParamSource{"step_bench", "/" + variant.label});
-  const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
+  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
   StepInput input;
   input.constraints = pins;
   for (int step = 0; step < kWarmUpSteps; ++step) {
