@@ -3,6 +3,7 @@
 // any other failure exits 1.
 #include "geometry/input_error.h"
 #include "harness/calibrate_command.h"
+#include "harness/compare_command.h"
 #include "harness/mesh_commands.h"
 #include "harness/run_commands.h"
 
@@ -19,6 +20,7 @@ int main(int argc, char** argv) {
   softbench::harness::add_mesh_commands(app);
   softbench::harness::add_run_commands(app);
   softbench::harness::add_calibrate_command(app);
+  softbench::harness::add_compare_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

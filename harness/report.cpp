@@ -32,8 +32,26 @@ nlohmann::json to_json(const ModelRun& run) {
   json["step_ms"] = {
       {"median", run.step_ms.median}, {"p95", run.step_ms.p95}, {"max", run.step_ms.max}};
   json["fps"] = run.fps;
-  // No collision module yet: nothing to add to the simulation's own time.
-  json["fps_with_collision"] = nullptr;
+  json["fps_with_collision"] = run.fps_with_collision;
+  json["step_with_collision_ms"] = {{"median", run.step_with_collision_ms.median},
+                                    {"p95", run.step_with_collision_ms.p95},
+                                    {"max", run.step_with_collision_ms.max}};
+  json["contact"] = {{"max_penetration", run.max_penetration},
+                     {"max_penetration_pressing", run.max_penetration_pressing},
+                     {"lost_contact_vertices", run.lost_contact_vertices},
+                     {"peak_tool_force", run.peak_tool_force}};
+  // Columns rather than records: a few hundred steps stay readable and small.
+  nlohmann::json series = {{"time", nlohmann::json::array()},
+                           {"tool_displacement", nlohmann::json::array()},
+                           {"tool_force", nlohmann::json::array()},
+                           {"recovery_residual", nlohmann::json::array()}};
+  for (const StepSample& sample : run.samples) {
+    series["time"].push_back(sample.time);
+    series["tool_displacement"].push_back(sample.tool_displacement);
+    series["tool_force"].push_back(sample.tool_force);
+    series["recovery_residual"].push_back(number_or_null(sample.recovery_residual));
+  }
+  json["series"] = series;
   json["stable"] = run.stable;
   json["diverged_at_step"] =
       run.diverged_at_step ? nlohmann::json(*run.diverged_at_step) : nlohmann::json(nullptr);
@@ -79,20 +97,23 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
   }
   out << "dt = " << scene.dt << " s, " << scene.num_steps() << " steps; step times are medians "
       << "over the steps after warm-up, measured around step() only.\n\n";
-  out << "| model | stable | steps/s | step ms (median / p95 / max) | iterations | "
-         "max inverted tets | max volume change | recovery residual | time to 1% (s) |\n";
-  out << "|---|---|---|---|---|---|---|---|---|\n";
+  out << "| model | stable | steps/s | steps/s with collision | step ms (median / p95 / max) | "
+         "iterations | max inverted tets | max volume change | recovery residual | "
+         "time to 1% (s) | max penetration (mm) | peak tool force (N) |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ModelRun& run : runs) {
     out << "| " << run.model << " | "
         << (run.stable
                 ? "yes"
                 : "NO (step " + std::to_string(*run.diverged_at_step) + ": " + run.divergence + ")")
-        << " | " << fixed(run.fps, 0) << " | " << fixed(run.step_ms.median, 3) << " / "
-        << fixed(run.step_ms.p95, 3) << " / " << fixed(run.step_ms.max, 3) << " | "
-        << fixed(run.mean_iterations, 1) << " | " << run.max_inverted_tets << " | "
-        << fixed(100.0 * run.volume_change, 2) << "% | "
+        << " | " << fixed(run.fps, 0) << " | " << fixed(run.fps_with_collision, 0) << " | "
+        << fixed(run.step_ms.median, 3) << " / " << fixed(run.step_ms.p95, 3) << " / "
+        << fixed(run.step_ms.max, 3) << " | " << fixed(run.mean_iterations, 1) << " | "
+        << run.max_inverted_tets << " | " << fixed(100.0 * run.volume_change, 2) << "% | "
         << (run.recovery_measured ? fixed(100.0 * run.recovery_residual, 2) + "%" : "-") << " | "
-        << (run.time_to_1pct ? fixed(*run.time_to_1pct, 2) : "-") << " |\n";
+        << (run.time_to_1pct ? fixed(*run.time_to_1pct, 2) : "-") << " | "
+        << fixed(1000.0 * run.max_penetration, 2) << " | " << fixed(run.peak_tool_force, 3)
+        << " |\n";
   }
   return out.str();
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run_commands.h"
 
+#include "harness/mesh_override.h"
 #include "harness/report.h"
 #include "harness/runner.h"
 #include "models/model_registry.h"
@@ -20,11 +21,15 @@ struct RunArguments {
   std::string scene;
   std::vector<std::string> models;
   std::string out_dir;
+  std::string mesh;
   int frames_every = 0;
 };
 
 void run(const RunArguments& arguments) {
-  const scenes::Scene scene = scenes::load_scene(arguments.scene);
+  scenes::Scene scene = scenes::load_scene(arguments.scene);
+  if (!arguments.mesh.empty()) {
+    override_mesh(scene, arguments.mesh);
+  }
   const std::filesystem::path out_dir = arguments.out_dir.empty()
                                             ? std::filesystem::path("out") / scene.name
                                             : std::filesystem::path(arguments.out_dir);
@@ -76,6 +81,8 @@ void add_run_commands(CLI::App& app) {
   run_command->add_option("--model", run_arguments->models,
                           "model to run (repeatable; default: every registered model)");
   run_command->add_option("--out", run_arguments->out_dir, "output folder (default: out/<scene>)");
+  run_command->add_option("--mesh", run_arguments->mesh,
+                          "replace the scene's mesh (e.g. SOFA's liver.msh for sofa_liver.json)");
   run_command
       ->add_option("--frames-every", run_arguments->frames_every,
                    "write a ParaView .vtu frame every N steps (0: none)")

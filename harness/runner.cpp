@@ -5,6 +5,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
+#include "harness/loading.h"
 #include "models/model_registry.h"
 #include "scenes/scene_regions.h"
 
@@ -18,55 +19,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The scene's constraints for one step: the fixed region at rest, and the grasped patch (while
-// held) at where it was grasped plus the path's offset at the end of the step.
-class ConstraintSchedule {
- public:
-  ConstraintSchedule(const scenes::Scene& scene, const TetMesh& mesh) : scene_(scene) {
-    for (int vertex : scenes::fixed_vertices(scene, mesh)) {
-      fixed_.push_back({vertex, mesh.rest_positions().col(vertex)});
-    }
-    if (scene.grasp) {
-      grasped_ = scenes::grasped_vertices(scene, mesh);
-    }
-    constraints_.reserve(fixed_.size() + grasped_.size());
-  }
-
-  /// Call before each step; `positions` are the body's at the step's start.
-  std::span<const PositionConstraint> at(double step_start,
-                                         double dt,
-                                         const Eigen::Matrix3Xd& positions) {
-    constraints_.assign(fixed_.begin(), fixed_.end());
-    if (!scene_.grasp) {
-      return constraints_;
-    }
-    const scenes::Grasp& grasp = *scene_.grasp;
-    if (step_start + 0.5 * dt >= grasp.start && step_start + 0.5 * dt < grasp.release) {
-      if (grasp_origin_.cols() == 0) {  // the grasp closes: remember where the patch is
-        grasp_origin_.resize(3, static_cast<Eigen::Index>(grasped_.size()));
-        for (std::size_t i = 0; i < grasped_.size(); ++i) {
-          grasp_origin_.col(static_cast<Eigen::Index>(i)) = positions.col(grasped_[i]);
-        }
-      }
-      const Eigen::Vector3d offset = scenes::grasp_offset(grasp, step_start + dt);
-      for (std::size_t i = 0; i < grasped_.size(); ++i) {
-        constraints_.push_back(
-            {grasped_[i], grasp_origin_.col(static_cast<Eigen::Index>(i)) + offset});
-      }
-    }
-    return constraints_;
-  }
-
-  void reset() { grasp_origin_.resize(3, 0); }
-
- private:
-  const scenes::Scene& scene_;
-  std::vector<PositionConstraint> fixed_;
-  std::vector<int> grasped_;
-  Eigen::Matrix3Xd grasp_origin_;
-  std::vector<PositionConstraint> constraints_;
-};
-
 void write_frame(const RunOptions& options,
                  const std::string& model,
                  int step,
@@ -79,6 +31,14 @@ void write_frame(const RunOptions& options,
   const Eigen::Matrix3Xd displacement = body.positions() - mesh.rest_positions();
   const VertexField fields[] = {{"displacement", &displacement}, {"velocity", &body.velocities()}};
   write_vtu(dir / name.str(), MeshData{body.positions(), {}, mesh.tets(), model}, fields);
+}
+
+double steps_per_second(const std::vector<double>& step_ms) {
+  double total_ms = 0.0;
+  for (double ms : step_ms) {
+    total_ms += ms;
+  }
+  return total_ms > 0.0 ? 1000.0 * static_cast<double>(step_ms.size()) / total_ms : 0.0;
 }
 
 ModelRun run_model(const scenes::Scene& scene,
@@ -104,13 +64,19 @@ ModelRun run_model(const scenes::Scene& scene,
   const double diagonal = (box.col(1) - box.col(0)).norm();
   const double rest_volume = mesh_volume(mesh);
   const Eigen::VectorXd masses = lumped_masses(mesh, scene.material.density);
-  ConstraintSchedule schedule(scene, mesh);
+  Loading loading(scene, mesh);
+  // The tool force needs the constraint forces of every step; a scene without a tool does not.
+  const bool has_tool = scene.grasp.has_value() || scene.instrument.has_value();
+  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, mesh.num_vertices());
   RecoveryTracker recovery(scene.release_time(), diagonal);
   Eigen::Matrix3Xd reference = mesh.rest_positions();
   bool have_reference = scene.reference_time() <= 0.0;
 
   std::vector<double> step_ms;
+  std::vector<double> step_with_collision_ms;
   step_ms.reserve(static_cast<std::size_t>(run.steps_planned));
+  step_with_collision_ms.reserve(static_cast<std::size_t>(run.steps_planned));
+  run.samples.reserve(static_cast<std::size_t>(run.steps_planned));
   double total_iterations = 0.0;
   for (int step = 0; step < run.steps_planned; ++step) {
     const double start = step * scene.dt;
@@ -121,13 +87,16 @@ ModelRun run_model(const scenes::Scene& scene,
     StepInput input;
     input.gravity =
         start < scene.gravity.off_at ? scene.gravity.acceleration : Eigen::Vector3d::Zero();
-    input.constraints = schedule.at(start, scene.dt, body->positions());
-
+    const Clock::time_point before_collision = Clock::now();
+    input.constraints =
+        loading.constraints(start, scene.dt, body->positions(), body->velocities(), forces);
     const Clock::time_point before = Clock::now();
     const StepStats stats = body->step(scene.dt, input);
     const Clock::time_point after = Clock::now();
     if (step >= options.warmup_steps) {
       step_ms.push_back(std::chrono::duration<double, std::milli>(after - before).count());
+      step_with_collision_ms.push_back(
+          std::chrono::duration<double, std::milli>(after - before_collision).count());
     }
     run.steps_run = step + 1;
     total_iterations += stats.iterations;
@@ -156,9 +125,22 @@ ModelRun run_model(const scenes::Scene& scene,
     run.max_inverted_tets = std::max(run.max_inverted_tets, count_inverted_tets(mesh, x));
     run.volume_change =
         std::max(run.volume_change, std::abs(mesh_volume(mesh, x) - rest_volume) / rest_volume);
+    if (has_tool) {
+      forces = body->constraint_forces();
+      loading.observe(start + scene.dt, x, forces);
+    }
+    StepSample sample;
+    sample.time = start + scene.dt;
+    sample.tool_displacement = loading.tool_displacement();
+    sample.tool_force = loading.tool_force();
+    run.peak_tool_force = std::max(run.peak_tool_force, sample.tool_force);
     if (have_reference) {
       recovery.observe(start + scene.dt, x, reference);
+      if (recovery.released()) {
+        sample.recovery_residual = recovery.residual();
+      }
     }
+    run.samples.push_back(sample);
     if (options.frames_every > 0 && step % options.frames_every == 0) {
       write_frame(options, model_name, step, mesh, *body);
     }
@@ -168,11 +150,12 @@ ModelRun run_model(const scenes::Scene& scene,
     }
   }
   run.step_ms = percentiles(step_ms);
-  double total_ms = 0.0;
-  for (double ms : step_ms) {
-    total_ms += ms;
-  }
-  run.fps = total_ms > 0.0 ? 1000.0 * static_cast<double>(step_ms.size()) / total_ms : 0.0;
+  run.fps = steps_per_second(step_ms);
+  run.step_with_collision_ms = percentiles(step_with_collision_ms);
+  run.fps_with_collision = steps_per_second(step_with_collision_ms);
+  run.max_penetration = loading.max_penetration();
+  run.max_penetration_pressing = loading.max_penetration_pressing();
+  run.lost_contact_vertices = loading.lost_contact_vertices();
   run.mean_iterations = run.steps_run > 0 ? total_iterations / run.steps_run : 0.0;
   run.final_elastic_energy = body->elastic_energy();
   run.final_reaction_sum = body->constraint_forces().rowwise().sum();
@@ -193,11 +176,6 @@ ModelRun run_model(const scenes::Scene& scene,
 }  // namespace
 
 std::vector<ModelRun> run_scene(const scenes::Scene& scene, const RunOptions& options) {
-  if (scene.instrument) {
-    throw InputError(scene.source.string() +
-                     ": /instrument: instrument contact needs the collision module, which is not "
-                     "built yet; remove the instrument block to run this scene");
-  }
   const std::vector<std::string> names =
       options.models.empty() ? builtin_models().names() : options.models;
   for (const std::string& name : names) {

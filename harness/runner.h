@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -23,6 +24,18 @@ struct RunOptions {
   bool live_progress = false;        ///< also rewrite a step counter line (for a terminal)
 };
 
+/// One step of a run, recorded for the curves (force-displacement, recovery over time).
+struct StepSample {
+  double time = 0.0;  ///< s, scene time at the end of the step
+  /// m: how far the tool that loads the tissue (the instrument, else the grasp) has moved from
+  /// where it started; 0 before it acts.
+  double tool_displacement = 0.0;
+  double tool_force = 0.0;  ///< N: |sum of the constraint forces the tissue exerts on the tool|
+  /// Recovery residual (RMS distance to the reference shape / rest bbox diagonal); NaN before
+  /// the release.
+  double recovery_residual = std::numeric_limits<double>::quiet_NaN();
+};
+
 /// What one model did on one scene: the metrics.json entry (DESIGN.md's schema).
 struct ModelRun {
   std::string model;
@@ -33,6 +46,21 @@ struct ModelRun {
   int steps_run = 0;
   Percentiles step_ms;  ///< over the timed steps (warm-up excluded)
   double fps = 0.0;     ///< timed steps per second of step() time
+  /// Over the timed steps: step() plus the collision work of the step (BVH refit, query,
+  /// contact constraints). Equal to step_ms / fps for scenes without an instrument.
+  Percentiles step_with_collision_ms;
+  double fps_with_collision = 0.0;
+  /// m: deepest tissue vertex inside the instrument (or instrument vertex inside the tissue),
+  /// any step
+  double max_penetration = 0.0;
+  /// m: the same from the instrument's start to its release (pressing and holding; withdrawal
+  /// excluded)
+  double max_penetration_pressing = 0.0;
+  /// Surface vertices that were in contact and lost it while the instrument kept pressing
+  /// (the thesis's "floats away" failure); 0 without an instrument.
+  int lost_contact_vertices = 0;
+  double peak_tool_force = 0.0;     ///< N: largest StepSample::tool_force
+  std::vector<StepSample> samples;  ///< one per step run
   bool stable = true;
   std::optional<int> diverged_at_step;
   std::string divergence;  ///< why it was stopped ("" when stable)

@@ -4,6 +4,7 @@
 #include "models/material.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -63,18 +64,41 @@ struct Grasp {
   std::vector<GraspKeyframe> path;                   ///< times in [start, release], increasing
 };
 
-/// An instrument keyframe: what the tool does from `time` on.
+/// An instrument keyframe: the pose of the instrument mesh's own frame in the world at `time`.
+/// Between keyframes the position moves linearly and the orientation by slerp; before the first
+/// and after the last the pose holds.
 struct InstrumentKeyframe {
   double time = 0.0;                                   ///< s
-  std::string action;                                  ///< approach, press, hold, release
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< m, tool tip (approach)
-  double depth = 0.0;                                  ///< m (press)
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  ///< m, where the mesh's origin goes
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< mesh frame -> world
 };
 
-/// A rigid instrument moved along a scripted path (contact: the collision issue).
+/// The instrument closes on the tissue: at `start` the boundary-surface vertices within `radius`
+/// of `center` at rest attach to the instrument where they are then, and move with it rigidly
+/// until `release`.
+struct InstrumentGrasp {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< m, rest frame
+  double radius = 0.01;                              ///< m
+  double start = 0.0;                                ///< s
+  double release = kNever;                           ///< s
+};
+
+/// A rigid instrument (a closed triangle mesh) moved along a scripted path. Tissue vertices that
+/// end up inside it are projected to its surface; instrument vertices that end up inside the
+/// tissue push the tissue's surface triangle out of the way (collision/instrument_contact.h).
 struct Instrument {
-  std::filesystem::path mesh;  ///< resolved against the scene file's folder
-  std::vector<InstrumentKeyframe> path;
+  std::filesystem::path mesh;            ///< resolved against the scene file's folder
+  std::vector<InstrumentKeyframe> path;  ///< times increasing
+  std::optional<InstrumentGrasp> grasp;
+  /// s: when the instrument begins to act on the tissue; the shape recovery is measured
+  /// against is taken then.
+  double start = 0.0;
+  /// s: when it lets go (starts to withdraw); recovery is measured from then. The grasp's
+  /// release when there is a grasp.
+  double release = kNever;
+  /// m: gap kept between tissue and instrument; contact holds while they are closer. Small
+  /// against the mesh's edges, large against rounding.
+  double contact_margin = 2e-4;
 };
 
 /// When a run counts as blown up. A diverged model is reported, and the run goes on with the

@@ -9,6 +9,7 @@
 #include "scenes/scene.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <initializer_list>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
 #include <string_view>
@@ -203,9 +205,38 @@ Grasp read_grasp(const JsonReader& root) {
   return grasp;
 }
 
+Eigen::Quaterniond read_rotation(const JsonReader& key) {
+  if (!key.has("rotation")) {
+    return Eigen::Quaterniond::Identity();
+  }
+  const JsonReader in = key.object("rotation");
+  allow_only(in, {"axis", "degrees"});
+  const Eigen::Vector3d axis = in.vector3("axis");
+  if (axis.norm() == 0.0) {
+    in.fail_expected("axis", "a non-zero vector");
+  }
+  const double degrees = in.number("degrees");
+  return Eigen::Quaterniond(
+      Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()));
+}
+
+InstrumentGrasp read_instrument_grasp(const JsonReader& instrument) {
+  const JsonReader in = instrument.object("grasp");
+  allow_only(in, {"center", "radius", "start", "release"});
+  InstrumentGrasp grasp;
+  grasp.center = in.vector3("center");
+  grasp.radius = in.number_or("radius", grasp.radius, Range::positive());
+  grasp.start = in.number("start", Range::non_negative());
+  grasp.release = in.number("release", Range::non_negative());
+  if (grasp.release <= grasp.start) {
+    in.fail_expected("release", "a number > start (" + format_number(grasp.start) + ")");
+  }
+  return grasp;
+}
+
 Instrument read_instrument(const JsonReader& root, const fs::path& folder) {
   const JsonReader in = root.object("instrument");
-  allow_only(in, {"mesh", "path"});
+  allow_only(in, {"mesh", "path", "grasp", "start", "release", "contact_margin"});
   Instrument instrument;
   instrument.mesh = existing_file(in, "mesh", folder);
   const std::vector<JsonReader> keys = in.objects("path");
@@ -213,28 +244,31 @@ Instrument read_instrument(const JsonReader& root, const fs::path& folder) {
     in.fail_expected("path", "at least one keyframe");
   }
   for (const JsonReader& key : keys) {
-    allow_only(key, {"t", "action", "position", "depth"});
+    allow_only(key, {"t", "position", "rotation"});
     InstrumentKeyframe frame;
-    frame.action = key.choice("action", {"approach", "press", "hold", "release"});
-    if (instrument.path.empty() && frame.action != "approach") {
-      key.fail_expected("action", "\"approach\" (the first keyframe places the instrument)");
-    }
     frame.time = key.number("t", Range::non_negative());
     if (!instrument.path.empty() && frame.time <= instrument.path.back().time) {
       key.fail_expected("t", "a number > " + format_number(instrument.path.back().time)
                                  + " (the previous keyframe's t)");
     }
-    if (frame.action == "approach") {
-      frame.position = key.vector3("position");
-    } else if (key.has("position")) {
-      key.fail("position", "only an \"approach\" keyframe has a position");
-    }
-    if (frame.action == "press") {
-      frame.depth = key.number("depth", Range::positive());
-    } else if (key.has("depth")) {
-      key.fail("depth", "only a \"press\" keyframe has a depth");
-    }
+    frame.position = key.vector3("position");
+    frame.orientation = read_rotation(key);
     instrument.path.push_back(frame);
+  }
+  instrument.contact_margin =
+      in.number_or("contact_margin", instrument.contact_margin, Range::positive());
+  instrument.start = in.number_or("start", instrument.path.front().time, Range::non_negative());
+  if (in.has("grasp")) {
+    instrument.grasp = read_instrument_grasp(in);
+    if (in.has("release")) {
+      in.fail("release", "an instrument with a grasp is released by /instrument/grasp/release");
+    }
+    instrument.release = instrument.grasp->release;
+  } else if (in.has("release")) {
+    instrument.release = in.number("release", Range::non_negative());
+  }
+  if (instrument.release <= instrument.start) {
+    in.fail_expected("release", "a time > start (" + format_number(instrument.start) + ")");
   }
   return instrument;
 }
@@ -267,27 +301,6 @@ std::map<std::string, nlohmann::json> read_models(const JsonReader& root) {
   return blocks;
 }
 
-// The first keyframe at which the instrument presses, else its first keyframe.
-double instrument_start(const Instrument& instrument) {
-  for (const InstrumentKeyframe& frame : instrument.path) {
-    if (frame.action == "press") {
-      return frame.time;
-    }
-  }
-  return instrument.path.empty() ? 0.0 : instrument.path.front().time;
-}
-
-// The last "release" keyframe of the instrument, or kNever.
-double instrument_release(const Instrument& instrument) {
-  double release = kNever;
-  for (const InstrumentKeyframe& frame : instrument.path) {
-    if (frame.action == "release") {
-      release = frame.time;
-    }
-  }
-  return release;
-}
-
 }  // namespace
 
 int Scene::num_steps() const {
@@ -307,7 +320,7 @@ double Scene::release_time() const {
     return grasp->release;
   }
   if (instrument) {
-    return instrument_release(*instrument);
+    return instrument->release;
   }
   return gravity.off_at;
 }
@@ -317,7 +330,7 @@ double Scene::reference_time() const {
     return grasp->start;
   }
   if (instrument) {
-    return instrument_start(*instrument);
+    return instrument->start;
   }
   return 0.0;
 }
@@ -397,19 +410,28 @@ nlohmann::json to_json(const Scene& scene) {
   }
 
   if (scene.instrument) {
+    const Instrument& instrument = *scene.instrument;
     nlohmann::json path = nlohmann::json::array();
-    for (const InstrumentKeyframe& frame : scene.instrument->path) {
-      nlohmann::json key = {{"t", frame.time}, {"action", frame.action}};
-      if (frame.action == "approach") {
-        key["position"] = vector_json(frame.position);
-      }
-      if (frame.action == "press") {
-        key["depth"] = frame.depth;
-      }
-      path.push_back(key);
+    for (const InstrumentKeyframe& frame : instrument.path) {
+      const Eigen::AngleAxisd rotation(frame.orientation);
+      path.push_back({{"t", frame.time},
+                      {"position", vector_json(frame.position)},
+                      {"rotation",
+                       {{"axis", vector_json(rotation.axis())},
+                        {"degrees", rotation.angle() * 180.0 / std::numbers::pi}}}});
     }
-    json["instrument"] = {{"mesh", path_as_written(scene.instrument->mesh, scene.source)},
-                          {"path", path}};
+    json["instrument"] = {{"mesh", path_as_written(instrument.mesh, scene.source)},
+                          {"path", path},
+                          {"start", instrument.start},
+                          {"contact_margin", instrument.contact_margin}};
+    if (instrument.grasp) {
+      json["instrument"]["grasp"] = {{"center", vector_json(instrument.grasp->center)},
+                                     {"radius", instrument.grasp->radius},
+                                     {"start", instrument.grasp->start},
+                                     {"release", instrument.grasp->release}};
+    } else if (instrument.release != kNever) {
+      json["instrument"]["release"] = instrument.release;
+    }
   }
 
   json["limits"] = {{"max_speed", scene.limits.max_speed},

@@ -63,10 +63,21 @@ std::vector<int> fixed_vertices(const Scene& scene, const TetMesh& mesh) {
 }
 
 std::vector<int> grasped_vertices(const Scene& scene, const TetMesh& mesh) {
-  if (!scene.grasp) {
-    return {};  // nothing is grasped
+  if (scene.grasp) {
+    return surface_vertices_within(scene, mesh, scene.grasp->center, scene.grasp->radius, "/grasp");
   }
-  const Grasp& grasp = *scene.grasp;
+  if (scene.instrument && scene.instrument->grasp) {
+    return surface_vertices_within(scene, mesh, scene.instrument->grasp->center,
+                                   scene.instrument->grasp->radius, "/instrument/grasp");
+  }
+  return {};  // nothing is grasped
+}
+
+std::vector<int> surface_vertices_within(const Scene& scene,
+                                         const TetMesh& mesh,
+                                         const Eigen::Vector3d& center,
+                                         double radius,
+                                         const std::string& pointer) {
   const Eigen::Matrix3Xd& rest = mesh.rest_positions();
   const Eigen::Matrix3Xi triangles = boundary_triangles(mesh.tets());
   std::vector<bool> on_surface(static_cast<std::size_t>(mesh.num_vertices()), false);
@@ -81,16 +92,16 @@ std::vector<int> grasped_vertices(const Scene& scene, const TetMesh& mesh) {
     if (!on_surface[static_cast<std::size_t>(vertex)]) {
       continue;
     }
-    const double distance = (rest.col(vertex) - grasp.center).norm();
+    const double distance = (rest.col(vertex) - center).norm();
     nearest = std::min(nearest, distance);
-    if (distance <= grasp.radius) {
+    if (distance <= radius) {
       selected.push_back(vertex);
     }
   }
   if (selected.empty()) {
-    throw InputError(scene.source.string() + ": /grasp: selects no surface vertex of "
-                     + scene.mesh.string() + " within radius " + format_number(grasp.radius)
-                     + " of center " + format_vector(grasp.center) + " (the nearest is "
+    throw InputError(scene.source.string() + ": " + pointer + ": selects no surface vertex of "
+                     + scene.mesh.string() + " within radius " + format_number(radius)
+                     + " of center " + format_vector(center) + " (the nearest is "
                      + format_number(nearest) + " away)");
   }
   return selected;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <string>
 #include <vector>
 
 namespace softbench::scenes {
@@ -14,9 +15,17 @@ namespace softbench::scenes {
 /// scene file when an index is out of range or the region selects no vertex.
 std::vector<int> fixed_vertices(const Scene& scene, const TetMesh& mesh);
 
-/// The boundary-surface vertices within grasp.radius of grasp.center at rest, sorted. Throws
-/// InputError naming the scene file when none is.
+/// The grasped vertices: those of the scene's grasp, else of its instrument's grasp (see
+/// surface_vertices_within), else none.
 std::vector<int> grasped_vertices(const Scene& scene, const TetMesh& mesh);
+
+/// The boundary-surface vertices within `radius` of `center` at rest, sorted. Throws InputError
+/// naming the scene file and `pointer` (the JSON pointer of the block that asked) when none is.
+std::vector<int> surface_vertices_within(const Scene& scene,
+                                         const TetMesh& mesh,
+                                         const Eigen::Vector3d& center,
+                                         double radius,
+                                         const std::string& pointer);
 
 /// The grasp's displacement at time t: piecewise linear through the keyframes, zero before the
 /// first, constant after the last.

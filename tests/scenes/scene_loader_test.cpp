@@ -50,11 +50,13 @@ constexpr const char* kFullScene = R"({
   },
   "instrument": {
     "mesh": "tool.obj",
+    "start": 0.25,
+    "release": 1.5,
+    "contact_margin": 0.001,
     "path": [
-      { "t": 0.0, "action": "approach", "position": [0.05, 0.05, 0.2] },
-      { "t": 0.5, "action": "press", "depth": 0.01 },
-      { "t": 1.0, "action": "hold" },
-      { "t": 1.5, "action": "release" }
+      { "t": 0.0, "position": [0.05, 0.05, 0.2] },
+      { "t": 0.5, "position": [0.05, 0.05, 0.1], "rotation": { "axis": [0, 0, 2], "degrees": 90 } },
+      { "t": 1.5, "position": [0.05, 0.05, 0.2] }
     ]
   },
   "limits": { "max_speed": 20.0, "max_displacement": 3.0 },
@@ -142,10 +144,13 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     ASSERT_EQ(a.instrument->path.size(), b.instrument->path.size());
     for (std::size_t i = 0; i < a.instrument->path.size(); ++i) {
       EXPECT_EQ(a.instrument->path[i].time, b.instrument->path[i].time);
-      EXPECT_EQ(a.instrument->path[i].action, b.instrument->path[i].action);
       EXPECT_EQ(a.instrument->path[i].position, b.instrument->path[i].position);
-      EXPECT_EQ(a.instrument->path[i].depth, b.instrument->path[i].depth);
+      EXPECT_TRUE(
+          a.instrument->path[i].orientation.isApprox(b.instrument->path[i].orientation, 1e-12));
     }
+    EXPECT_EQ(a.instrument->start, b.instrument->start);
+    EXPECT_EQ(a.instrument->release, b.instrument->release);
+    EXPECT_EQ(a.instrument->contact_margin, b.instrument->contact_margin);
   }
   EXPECT_EQ(a.limits.max_speed, b.limits.max_speed);
   EXPECT_EQ(a.limits.max_displacement, b.limits.max_displacement);
@@ -200,10 +205,14 @@ TEST_F(SceneLoader, ReadsEveryKeyOfAFullScene) {
   EXPECT_EQ(scene.grasp->path[1].offset, Eigen::Vector3d(0.0, 0.0, 0.03));
   ASSERT_TRUE(scene.instrument.has_value());
   EXPECT_EQ(scene.instrument->mesh, dir_.path() / "tool.obj");
-  ASSERT_EQ(scene.instrument->path.size(), 4u);
+  ASSERT_EQ(scene.instrument->path.size(), 3u);
   EXPECT_EQ(scene.instrument->path[0].position, Eigen::Vector3d(0.05, 0.05, 0.2));
-  EXPECT_EQ(scene.instrument->path[1].action, "press");
-  EXPECT_EQ(scene.instrument->path[1].depth, 0.01);
+  // The axis is normalised; 90 degrees about z takes x to y.
+  EXPECT_TRUE((scene.instrument->path[1].orientation * Eigen::Vector3d::UnitX())
+                  .isApprox(Eigen::Vector3d::UnitY(), 1e-15));
+  EXPECT_EQ(scene.instrument->start, 0.25);
+  EXPECT_EQ(scene.instrument->release, 1.5);
+  EXPECT_EQ(scene.instrument->contact_margin, 0.001);
   EXPECT_EQ(scene.limits.max_speed, 20.0);
   EXPECT_EQ(scene.limits.max_displacement, 3.0);
   ASSERT_EQ(scene.model_parameters.size(), 2u);
@@ -401,32 +410,43 @@ TEST_F(SceneLoader, RejectsANegativeFixedVertexIndex) {
             "/fixed/vertices/1: expected an integer in [0, 2147483647], got -1");
 }
 
-TEST_F(SceneLoader, RejectsAnUnknownInstrumentAction) {
-  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": [
-                {"t": 0, "action": "approach", "position": [0, 0, 1]},
-                {"t": 1, "action": "poke"}]}})"),
-            "/instrument/path/1/action: expected one of \"approach\", \"press\", \"hold\", "
-            "\"release\", got \"poke\"");
+TEST_F(SceneLoader, RejectsAnInstrumentKeyframeWithoutAPosition) {
+  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": [{"t": 0}]}})"),
+            "/instrument/path/0/position: missing (required)");
 }
 
-TEST_F(SceneLoader, RejectsAnInstrumentPathNotStartingWithAnApproach) {
+TEST_F(SceneLoader, RejectsInstrumentKeyframesOutOfOrder) {
   EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": [
-                {"t": 0, "action": "press", "depth": 0.01}]}})"),
-            "/instrument/path/0/action: expected \"approach\" (the first keyframe places the "
-            "instrument), got \"press\"");
+                {"t": 1, "position": [0, 0, 1]}, {"t": 1, "position": [0, 0, 0]}]}})"),
+            "/instrument/path/1/t: expected a number > 1 (the previous keyframe's t), got 1");
 }
 
-TEST_F(SceneLoader, RejectsADepthOnAnApproachKeyframe) {
+TEST_F(SceneLoader, RejectsAZeroRotationAxis) {
   EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": [
-                {"t": 0, "action": "approach", "position": [0, 0, 1], "depth": 0.01}]}})"),
-            "/instrument/path/0/depth: only a \"press\" keyframe has a depth");
+                {"t": 0, "position": [0, 0, 1], "rotation": {"axis": [0, 0, 0], "degrees": 5}}]}})"),
+            "/instrument/path/0/rotation/axis: expected a non-zero vector, got [0,0,0]");
 }
 
-TEST_F(SceneLoader, RejectsAPressWithoutADepth) {
-  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": [
-                {"t": 0, "action": "approach", "position": [0, 0, 1]},
-                {"t": 1, "action": "press"}]}})"),
-            "/instrument/path/1/depth: missing (required)");
+TEST_F(SceneLoader, RejectsAnInstrumentReleasedBeforeItStarts) {
+  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "start": 2, "release": 1,
+                "path": [{"t": 0, "position": [0, 0, 1]}]}})"),
+            "/instrument/release: expected a time > start (2), got 1");
+}
+
+TEST_F(SceneLoader, RejectsTwoReleasesForAGraspingInstrument) {
+  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "release": 3,
+                "grasp": {"center": [0, 0, 0], "start": 1, "release": 2},
+                "path": [{"t": 0, "position": [0, 0, 1]}]}})"),
+            "/instrument/release: an instrument with a grasp is released by "
+            "/instrument/grasp/release");
+}
+
+TEST_F(SceneLoader, AGraspingInstrumentIsReleasedWithItsGrasp) {
+  const Scene scene = load(R"({"instrument": {"mesh": "tool.obj", "start": 0.5,
+      "grasp": {"center": [0, 0, 0], "radius": 0.01, "start": 1, "release": 2}, "path": [{"t": 0, "position": [0, 0, 1]}]}})");
+  ASSERT_TRUE(scene.instrument && scene.instrument->grasp);
+  EXPECT_EQ(scene.release_time(), 2.0);
+  EXPECT_EQ(scene.reference_time(), 0.5);
 }
 
 TEST_F(SceneLoader, RejectsAnEmptyInstrumentPath) {
@@ -490,13 +510,11 @@ TEST(Scene, MeasuresRecoveryFromTheGraspOrElseFromGravity) {
   EXPECT_EQ(scene.reference_time(), 1.0);
 }
 
-TEST(Scene, MeasuresRecoveryFromTheInstrumentsPressAndRelease) {
+TEST(Scene, MeasuresRecoveryFromTheInstrumentsStartAndRelease) {
   Scene scene;
   scene.instrument = Instrument{};
-  scene.instrument->path = {{0.0, "approach", {0, 0, 1}, 0.0},
-                            {0.5, "press", {0, 0, 0}, 0.01},
-                            {1.0, "hold", {0, 0, 0}, 0.0},
-                            {1.5, "release", {0, 0, 0}, 0.0}};
+  scene.instrument->start = 0.5;
+  scene.instrument->release = 1.5;
   EXPECT_EQ(scene.reference_time(), 0.5);
   EXPECT_EQ(scene.release_time(), 1.5);
 }

@@ -1,0 +1,241 @@
+// SPDX-License-Identifier: MIT
+#include "collision/instrument_contact.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_topology.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace softbench::collision {
+namespace {
+
+std::vector<int> vertices_of(const Eigen::Matrix3Xi& triangles) {
+  std::vector<int> vertices(triangles.data(), triangles.data() + triangles.size());
+  std::sort(vertices.begin(), vertices.end());
+  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  return vertices;
+}
+
+Aabb inflated(Aabb box, double by) {
+  box.min.array() -= by;
+  box.max.array() += by;
+  return box;
+}
+
+bool contains(const Aabb& box, const Eigen::Vector3d& point) {
+  return (point.array() >= box.min.array()).all() && (point.array() <= box.max.array()).all();
+}
+
+// Unit vector from `from` towards `to`, or `fallback` when they (nearly) coincide.
+Eigen::Vector3d direction(const Eigen::Vector3d& from,
+                          const Eigen::Vector3d& to,
+                          const Eigen::Vector3d& fallback) {
+  const Eigen::Vector3d d = to - from;
+  const double length = d.norm();
+  return length > 1e-12 ? Eigen::Vector3d(d / length) : fallback;
+}
+
+}  // namespace
+
+InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
+                                     const Eigen::Matrix3Xi& tissue_surface,
+                                     const TriMesh& instrument,
+                                     InstrumentContactOptions options)
+    : options_(std::move(options)),
+      tissue_surface_(tissue_surface),
+      surface_vertices_(vertices_of(tissue_surface)),
+      instrument_distance_(instrument.vertices, instrument.triangles, options_.instrument_schedule),
+      tissue_distance_(tissue_positions, tissue_surface, options_.tissue_schedule),
+      predicted_distance_(tissue_positions, tissue_surface, options_.tissue_schedule),
+      instrument_tree_(instrument.vertices, instrument.triangles, options_.instrument_schedule),
+      instrument_triangles_(instrument.triangles),
+      instrument_local_(instrument.vertices),
+      instrument_world_(instrument.vertices) {
+  const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
+  pressed_.assign(vertices, 0);
+  has_move_.assign(vertices, 0);
+  last_push_.assign(vertices, Eigen::Vector3d::Zero());
+  move_.assign(vertices, Eigen::Vector3d::Zero());
+  push_.assign(vertices, Eigen::Vector3d::Zero());
+}
+
+double InstrumentContact::instrument_distance(const Eigen::Isometry3d& pose,
+                                              const Eigen::Vector3d& point) const {
+  return instrument_distance_.nearest(pose.inverse() * point).signed_distance;
+}
+
+// A pressed vertex the instrument withdraws from (its surface there moving away along the contact
+// normal) stays on it while it presses: an implicit model springs back within one step, faster
+// than the instrument withdraws, and would land inside it. Sideways motion (a shaft sliding
+// past the tissue) does not drag the vertex along.
+bool InstrumentContact::follows_withdrawal(int vertex,
+                                           const Eigen::Vector3d& local_point,
+                                           const Eigen::Isometry3d& pose) const {
+  if (!was_pressed(vertex)) {
+    return false;
+  }
+  const Eigen::Vector3d motion = pose * local_point - last_pose_ * local_point;
+  const Eigen::Vector3d& push = last_push_[static_cast<std::size_t>(vertex)];
+  constexpr double kCos45 = 0.7071067811865476;
+  return motion.dot(push) < -kCos45 * motion.norm();
+}
+
+bool InstrumentContact::was_pressed(int vertex) const {
+  return pressed_[static_cast<std::size_t>(vertex)] != 0;
+}
+
+void InstrumentContact::propose(int vertex,
+                                const Eigen::Vector3d& move,
+                                const Eigen::Vector3d& push) {
+  const auto v = static_cast<std::size_t>(vertex);
+  if (!has_move_[v]) {
+    has_move_[v] = 1;
+    moved_.push_back(vertex);
+  } else if (move.squaredNorm() <= move_[v].squaredNorm()) {
+    return;
+  }
+  move_[v] = move;
+  push_[v] = push;
+}
+
+// Tissue vertices inside the instrument, or pressed against it, or about to enter it: to its
+// surface plus the margin. The target is found from where the vertex is now: from where it
+// would be, a fast vertex could be past the middle of a thin instrument and be sent out of the
+// far side.
+void InstrumentContact::resolve_tissue_vertices(const Eigen::Isometry3d& pose,
+                                                const Eigen::Matrix3Xd& positions) {
+  const double margin = options_.margin;
+  const Aabb reach = inflated(fit_aabb(instrument_world_), 2.0 * margin);
+  const Eigen::Isometry3d to_local = pose.inverse();
+  for (int vertex : surface_vertices_) {
+    const Eigen::Vector3d x = positions.col(vertex);
+    const Eigen::Vector3d free_flight = predicted_.col(vertex);
+    if (!contains(reach, x) && !contains(reach, free_flight)) {
+      continue;
+    }
+    const Eigen::Vector3d local = to_local * x;
+    const MeshDistance::Nearest nearest = instrument_distance_.nearest(local);
+    const double band = was_pressed(vertex) ? 2.0 * margin : margin;
+    if (nearest.signed_distance >= band
+        && instrument_distance_.signed_distance(to_local * free_flight) >= band
+        && !follows_withdrawal(vertex, nearest.point, pose)) {
+      continue;
+    }
+    // Outward from the instrument at the nearest point: away from it for a point outside,
+    // through the surface for a point inside.
+    const Eigen::Vector3d out_local = nearest.signed_distance < 0.0
+                                          ? direction(local, nearest.point, nearest.normal)
+                                          : direction(nearest.point, local, nearest.normal);
+    const Eigen::Vector3d target = pose * (nearest.point + margin * out_local);
+    propose(vertex, target - x, pose.linear() * out_local);
+  }
+}
+
+// Instrument vertices inside the tissue (a tip between tissue vertices), or about to be: move
+// the nearest surface triangle along its normal until the vertex is the margin outside.
+void InstrumentContact::resolve_instrument_vertices() {
+  const double margin = options_.margin;
+  const Aabb reach =
+      inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
+  for (Eigen::Index i = 0; i < instrument_world_.cols(); ++i) {
+    const Eigen::Vector3d p = instrument_world_.col(i);
+    if (!contains(reach, p)) {
+      continue;
+    }
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
+    const bool pressed =
+        was_pressed(corners(0)) || was_pressed(corners(1)) || was_pressed(corners(2));
+    const double band = pressed ? 2.0 * margin : margin;
+    if (nearest.signed_distance >= band && predicted_distance_.signed_distance(p) >= band) {
+      continue;
+    }
+    // Move the surface point under the vertex inward by the shortfall (outward, to meet the
+    // instrument, for tissue that is about to run into it).
+    const double shortfall = margin - nearest.signed_distance;
+    const Eigen::Vector3d inward = -nearest.normal;
+    const Eigen::Vector3d& w = nearest.barycentric;
+    const double weight_norm = w.squaredNorm();
+    for (int corner = 0; corner < 3; ++corner) {
+      if (w(corner) > 0.0) {
+        propose(corners(corner), (w(corner) / weight_norm * shortfall) * inward, inward);
+      }
+    }
+  }
+}
+
+const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometry3d& pose,
+                                                            const Eigen::Matrix3Xd& positions,
+                                                            const Eigen::Matrix3Xd& velocities,
+                                                            double dt,
+                                                            const Eigen::Matrix3Xd& last_forces) {
+  // Active set: a vertex stays pressed while last step's force pushed it away from the
+  // instrument; an adhesive (pulling) force lets it go.
+  for (const VertexTarget& target : targets_) {
+    const auto v = static_cast<std::size_t>(target.vertex);
+    pressed_[v] = last_forces.col(target.vertex).dot(target.push) > 0.0 ? 1 : 0;
+    last_push_[v] = target.push;
+  }
+  // Contact is judged with the instrument where it will be at the step's end, and with the
+  // tissue both where it is and where it would be without contact (its free flight x + dt v):
+  // judging only where it is lets tissue that swings into a still instrument pass through it
+  // within the step.
+  predicted_ = positions + dt * velocities;
+  instrument_world_ = pose * instrument_local_;
+  instrument_tree_.refit(instrument_world_);
+  tissue_distance_.update(positions);
+  predicted_distance_.update(predicted_);
+  collide(tissue_distance_.tree(), positions, instrument_tree_, instrument_world_, buffers_, pairs_,
+          &report_.query);
+  report_.triangle_pairs = static_cast<int>(pairs_.size());
+
+  moved_.clear();
+  resolve_tissue_vertices(pose, positions);
+  resolve_instrument_vertices();
+  for (const VertexTarget& target : targets_) {
+    pressed_[static_cast<std::size_t>(target.vertex)] = 0;
+  }
+  last_pose_ = pose;
+  targets_.clear();
+  for (int vertex : moved_) {
+    const auto v = static_cast<std::size_t>(vertex);
+    targets_.push_back({vertex, positions.col(vertex) + move_[v], push_[v]});
+    has_move_[v] = 0;
+  }
+  return targets_;
+}
+
+ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
+                                         const Eigen::Matrix3Xd& positions) {
+  ContactReport report;
+  const Eigen::Matrix3Xd world = pose * instrument_local_;
+  const Aabb instrument_box = fit_aabb(world);
+  const Eigen::Isometry3d to_local = pose.inverse();
+  for (int vertex : surface_vertices_) {
+    if (!contains(instrument_box, positions.col(vertex))) {
+      continue;
+    }
+    const double depth =
+        -instrument_distance_.nearest(to_local * positions.col(vertex)).signed_distance;
+    if (depth > 0.0) {
+      ++report.tissue_vertices_inside;
+      report.max_penetration = std::max(report.max_penetration, depth);
+    }
+  }
+  tissue_distance_.update(positions);
+  const Aabb tissue_box = tissue_distance_.bounds();
+  for (Eigen::Index i = 0; i < world.cols(); ++i) {
+    if (!contains(tissue_box, world.col(i))) {
+      continue;
+    }
+    const double depth = -tissue_distance_.nearest(world.col(i)).signed_distance;
+    if (depth > 0.0) {
+      ++report.instrument_vertices_inside;
+      report.max_penetration = std::max(report.max_penetration, depth);
+    }
+  }
+  return report;
+}
+
+}  // namespace softbench::collision

@@ -1,0 +1,127 @@
+// SPDX-License-Identifier: MIT
+// Contact between a deforming tissue surface and a rigid instrument, as data for the models:
+// each step the tissue vertices the instrument must move, and where to. The thesis's criterion
+// is that the instrument neither passes through the tissue nor floats away from it; two kinds of
+// penetration break the first half, so both are resolved:
+//   - a tissue vertex inside the instrument is projected to the instrument's surface (plus the
+//     margin), found by the nearest point on the instrument mesh and an angle-weighted
+//     pseudonormal inside test, in the instrument's own frame (its tree never changes);
+//   - an instrument vertex inside the tissue (a thin tip between tissue vertices) pushes the
+//     nearest tissue surface triangle inward along its normal until the vertex is the margin
+//     outside; the push is spread over the triangle's vertices by their barycentric weights
+//     (the least-norm vertex displacements that move that point of the triangle by the push).
+// A vertex that several contacts move keeps the largest move. Contact is judged on the tissue
+// where it is and where it would be at the step's end without contact (x + dt v). Contacts hold
+// while tissue and instrument are within twice the margin and the previous step's constraint
+// force pressed the tissue away from the instrument (an active set); a pressed vertex the
+// instrument withdraws from along the contact normal follows it while it presses (implicit
+// models spring back within a step), and is let go, not pulled, once its force turns adhesive.
+// The tissue and instrument BVHs are refitted and queried for intersecting triangle pairs every
+// step as well: that count is the thesis's measure of contact (table 4.2).
+#pragma once
+
+#include "collision/bvh.h"
+#include "collision/bvh_collide.h"
+#include "collision/mesh_distance.h"
+#include "collision/query_stats.h"
+#include "geometry/tri_mesh.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace softbench::collision {
+
+/// A tissue vertex the contact moves: where it must be at the end of the step.
+struct VertexTarget {
+  int vertex = -1;
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< m, world
+  /// Unit direction in which the instrument pushes the vertex (away from the instrument); the
+  /// constraint force on the vertex along it is the contact's normal force.
+  Eigen::Vector3d push = Eigen::Vector3d::Zero();
+};
+
+/// What one detection found.
+struct ContactReport {
+  int triangle_pairs = 0;              ///< intersecting tissue-instrument triangle pairs
+  int tissue_vertices_inside = 0;      ///< tissue vertices inside the instrument
+  int instrument_vertices_inside = 0;  ///< instrument vertices inside the tissue
+  double max_penetration = 0.0;        ///< m: the deepest of either kind
+  QueryStats query;
+};
+
+struct InstrumentContactOptions {
+  double margin = 2e-4;  ///< m: the gap kept between tissue and instrument
+  BvhSchedule tissue_schedule = BvhSchedule::liver();
+  BvhSchedule instrument_schedule = BvhSchedule::instrument();
+};
+
+class InstrumentContact {
+ public:
+  /// `tissue_surface`: the tissue's closed outward boundary, as triangles over the tissue's
+  /// vertex indices (3 x #T) with the tissue's rest positions (3 x #V). `instrument`: a closed
+  /// outward mesh in its own frame. Throws InputError if either is not closed.
+  InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
+                    const Eigen::Matrix3Xi& tissue_surface,
+                    const TriMesh& instrument,
+                    InstrumentContactOptions options = {});
+
+  /// The targets for a step of `dt` that ends with the instrument at `pose` (its frame ->
+  /// world), from the tissue's positions and velocities at the step's start (contact is judged
+  /// on the free-flight prediction x + dt v) and the constraint forces (3 x #V, N) the previous
+  /// step's targets exerted (zero on the first step). Also refits both trees and counts the
+  /// intersecting triangle pairs (report()).
+  const std::vector<VertexTarget>& resolve(const Eigen::Isometry3d& pose,
+                                           const Eigen::Matrix3Xd& positions,
+                                           const Eigen::Matrix3Xd& velocities,
+                                           double dt,
+                                           const Eigen::Matrix3Xd& last_forces);
+
+  /// Penetration of the tissue at `positions` by the instrument at `pose`, without resolving
+  /// (for metrics after a step): fills the returned report's vertex counts and
+  /// max_penetration.
+  ContactReport measure(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);
+
+  /// m: signed distance of a world point from the instrument's surface at `pose` (negative
+  /// inside).
+  double instrument_distance(const Eigen::Isometry3d& pose, const Eigen::Vector3d& point) const;
+
+  const ContactReport& report() const { return report_; }
+  const std::vector<int>& surface_vertices() const { return surface_vertices_; }
+
+ private:
+  void resolve_tissue_vertices(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);
+  void resolve_instrument_vertices();
+  void propose(int vertex, const Eigen::Vector3d& move, const Eigen::Vector3d& from);
+  bool was_pressed(int vertex) const;
+  bool follows_withdrawal(int vertex,
+                          const Eigen::Vector3d& local_point,
+                          const Eigen::Isometry3d& pose) const;
+
+  InstrumentContactOptions options_;
+  Eigen::Matrix3Xi tissue_surface_;
+  std::vector<int> surface_vertices_;
+  MeshDistance instrument_distance_;  ///< in the instrument's own frame: never refitted
+  MeshDistance tissue_distance_;      ///< the tissue at the step's start
+  MeshDistance predicted_distance_;   ///< the tissue's free flight to the step's end
+  Bvh instrument_tree_;               ///< world frame, for the triangle-pair query
+  Eigen::Matrix3Xi instrument_triangles_;
+  Eigen::Matrix3Xd instrument_local_;
+  Eigen::Matrix3Xd instrument_world_;
+  Eigen::Matrix3Xd predicted_;  ///< the tissue at the step's end without contact
+  CollideBuffers buffers_;
+  std::vector<TrianglePair> pairs_;
+
+  std::vector<int> pressed_;                ///< per tissue vertex: 1 if pushed away last step
+  std::vector<Eigen::Vector3d> last_push_;  ///< per tissue vertex: its push last step
+  Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
+  std::vector<char> has_move_;         ///< per tissue vertex: a move was proposed this step
+  std::vector<Eigen::Vector3d> move_;  ///< per tissue vertex: this step's largest move
+  std::vector<Eigen::Vector3d> push_;
+  std::vector<int> moved_;  ///< vertices with a move this step
+  std::vector<VertexTarget> targets_;
+  ContactReport report_;
+};
+
+}  // namespace softbench::collision

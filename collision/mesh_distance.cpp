@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: MIT
+#include "collision/mesh_distance.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <utility>
+
+namespace softbench::collision {
+namespace {
+
+// Squared lower bound on the distance from `point` to anything the node holds.
+double squared_lower_bound(const BvhNode& node, const Eigen::Vector3d& point) {
+  double bound = 0.0;
+  if (node.has_box()) {
+    bound = squared_distance(node.box, point);
+  }
+  if (node.has_sphere()) {
+    const double gap = (point - node.sphere.center).norm() - node.sphere.radius;
+    if (gap > 0.0) {
+      bound = std::max(bound, gap * gap);
+    }
+  }
+  return bound;
+}
+
+// Angle at vertex `a` of triangle (a, b, c), radians (0 for a zero-length edge).
+double corner_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d u = b - a, v = c - a;
+  // atan2 of |u x v| and u . v stays accurate near 0 and pi, unlike acos.
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+}  // namespace
+
+MeshDistance::MeshDistance(const Eigen::Matrix3Xd& positions,
+                           const Eigen::Matrix3Xi& triangles,
+                           BvhSchedule schedule)
+    : tree_(positions, triangles, std::move(schedule)),
+      positions_(positions),
+      triangles_(triangles),
+      triangle_edges_(3, triangles.cols()) {
+  std::map<std::pair<int, int>, int> edge_index;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      const auto key = std::minmax(triangles(k, t), triangles((k + 1) % 3, t));
+      const auto [it, inserted] = edge_index.try_emplace(key, static_cast<int>(edge_index.size()));
+      triangle_edges_(k, t) = it->second;
+    }
+  }
+  edge_normals_.resize(3, static_cast<Eigen::Index>(edge_index.size()));
+  compute_pseudonormals();
+}
+
+void MeshDistance::update(const Eigen::Matrix3Xd& positions) {
+  tree_.refit(positions);  // checks the vertex count
+  positions_ = positions;
+  compute_pseudonormals();
+}
+
+void MeshDistance::compute_pseudonormals() {
+  face_normals_.resize(3, triangles_.cols());
+  edge_normals_.setZero();
+  vertex_normals_.setZero(3, positions_.cols());
+  for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
+    const Eigen::Vector3d a = positions_.col(triangles_(0, t)),
+                          b = positions_.col(triangles_(1, t)),
+                          c = positions_.col(triangles_(2, t));
+    const Eigen::Vector3d normal = (b - a).cross(c - a);
+    const double length = normal.norm();
+    face_normals_.col(t) =
+        length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d unit = face_normals_.col(t);
+    const Eigen::Vector3d corners[3] = {a, b, c};
+    for (int k = 0; k < 3; ++k) {
+      edge_normals_.col(triangle_edges_(k, t)) += unit;
+      vertex_normals_.col(triangles_(k, t)) +=
+          corner_angle(corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]) * unit;
+    }
+  }
+}
+
+MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryStats* stats) const {
+  Nearest best;
+  QueryStats counts;
+  if (tree_.empty()) {
+    return best;
+  }
+  double best_squared = std::numeric_limits<double>::infinity();
+  // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
+  std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;
+  int top = 0;
+  const std::vector<BvhNode>& nodes = tree_.nodes();
+  stack[static_cast<std::size_t>(top++)] = {0, squared_lower_bound(nodes[0], point)};
+  while (top > 0) {
+    const auto [index, bound] = stack[static_cast<std::size_t>(--top)];
+    if (bound >= best_squared) {
+      continue;
+    }
+    const BvhNode& node = nodes[static_cast<std::size_t>(index)];
+    ++counts.node_visits;
+    if (node.is_leaf()) {
+      ++counts.leaf_visits;
+      for (int slot = node.first; slot < node.first + node.count; ++slot) {
+        const auto tri = tree_.slot_vertices().col(slot);
+        const TrianglePoint candidate = closest_point_on_triangle(
+            point, positions_.col(tri(0)), positions_.col(tri(1)), positions_.col(tri(2)));
+        ++counts.tri_tests;
+        const double squared = (candidate.point - point).squaredNorm();
+        if (squared < best_squared) {
+          best_squared = squared;
+          best.triangle = tree_.slot_triangle(slot);
+          best.point = candidate.point;
+          best.barycentric = candidate.barycentric;
+          best.feature = candidate.feature;
+        }
+      }
+      continue;
+    }
+    const int left = node.first, right = node.first + 1;
+    const double left_bound = squared_lower_bound(nodes[static_cast<std::size_t>(left)], point);
+    const double right_bound = squared_lower_bound(nodes[static_cast<std::size_t>(right)], point);
+    // Push the farther child first so the nearer one is searched first and tightens the bound.
+    if (left_bound <= right_bound) {
+      stack[static_cast<std::size_t>(top++)] = {right, right_bound};
+      stack[static_cast<std::size_t>(top++)] = {left, left_bound};
+    } else {
+      stack[static_cast<std::size_t>(top++)] = {left, left_bound};
+      stack[static_cast<std::size_t>(top++)] = {right, right_bound};
+    }
+  }
+  best.distance = std::sqrt(best_squared);
+  const Eigen::Vector3d normal = pseudonormal(best.triangle, best.feature);
+  const double length = normal.norm();
+  best.normal = length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+  // Points on the surface (distance 0) and features without a normal count as outside.
+  best.signed_distance = (point - best.point).dot(normal) < 0.0 ? -best.distance : best.distance;
+  counts.pairs_found = 1;
+  if (stats != nullptr) {
+    *stats = counts;
+  }
+  return best;
+}
+
+Eigen::Vector3d MeshDistance::pseudonormal(int t, TriangleFeature feature) const {
+  switch (feature) {
+    case TriangleFeature::kFace:
+      return face_normals_.col(t);
+    case TriangleFeature::kEdge01:
+      return edge_normals_.col(triangle_edges_(0, t));
+    case TriangleFeature::kEdge12:
+      return edge_normals_.col(triangle_edges_(1, t));
+    case TriangleFeature::kEdge20:
+      return edge_normals_.col(triangle_edges_(2, t));
+    case TriangleFeature::kVertex0:
+      return vertex_normals_.col(triangles_(0, t));
+    case TriangleFeature::kVertex1:
+      return vertex_normals_.col(triangles_(1, t));
+    case TriangleFeature::kVertex2:
+      return vertex_normals_.col(triangles_(2, t));
+  }
+  return Eigen::Vector3d::Zero();
+}
+
+}  // namespace softbench::collision

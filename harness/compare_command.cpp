@@ -1,0 +1,108 @@
+// SPDX-License-Identifier: MIT
+#include "harness/compare_command.h"
+
+#include "harness/comparison.h"
+#include "harness/comparison_plots.h"
+#include "harness/comparison_report.h"
+#include "harness/mesh_override.h"
+#include "scenes/scene.h"
+#include "scenes/shipped_data.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace softbench::harness {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CompareArguments {
+  std::vector<std::string> scenes;
+  std::vector<std::string> models;
+  std::string out_dir = "out/compare";
+  std::string mesh;
+  bool no_plots = false;
+};
+
+// A shipped scene: scenes/<name> from the working directory (the repository root, as the README
+// runs it), else from the source tree this build came from.
+fs::path shipped_scene(const std::string& name) {
+  const fs::path local = fs::path("scenes") / name;
+  std::error_code error;
+  if (fs::is_regular_file(local, error)) {
+    return local;
+  }
+  return scenes::shipped_data_dir().parent_path() / name;
+}
+
+void compare(const CompareArguments& arguments) {
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<fs::path> paths;
+  if (arguments.scenes.empty()) {
+    paths = {shipped_scene("liver_press.json"), shipped_scene("liver_pull.json")};
+  } else {
+    paths.assign(arguments.scenes.begin(), arguments.scenes.end());
+  }
+  std::vector<scenes::Scene> scenes;
+  for (const fs::path& path : paths) {
+    scenes.push_back(scenes::load_scene(path));
+    if (!arguments.mesh.empty()) {
+      override_mesh(scenes.back(), arguments.mesh);
+    }
+  }
+  CompareOptions options;
+  options.models = arguments.models;
+  options.progress = &std::cerr;
+  options.live_progress = ::isatty(STDERR_FILENO) != 0;
+  const Comparison comparison = run_comparison(scenes, options);
+
+  const fs::path out_dir = arguments.out_dir;
+  write_comparison(out_dir, comparison);
+  std::cout << comparison_markdown(comparison) << "\nwrote " << (out_dir / "compare.md").string()
+            << " and " << (out_dir / "compare.json").string() << "\n";
+  if (!arguments.no_plots) {
+    const PlotOutcome plots = plot_comparison(out_dir);
+    if (plots.plotted) {
+      for (const fs::path& file : plots.files) {
+        std::cout << "wrote " << file.string() << "\n";
+      }
+    } else {
+      std::cerr << "softbench: warning: " << plots.message << "\n";
+    }
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cerr << "compare took " << std::fixed << std::setprecision(1) << seconds << " s\n";
+}
+
+}  // namespace
+
+void add_compare_command(CLI::App& app) {
+  auto arguments = std::make_shared<CompareArguments>();
+  CLI::App* command = app.add_subcommand(
+      "compare",
+      "The thesis's chapter-3 comparison: run scenes through every model; print and write "
+      "compare.md, compare.json and PNG plots, with the thesis's claims checked");
+  command->add_option("scenes", arguments->scenes,
+                      "scene files (default: scenes/liver_press.json scenes/liver_pull.json)");
+  command
+      ->add_option("--model", arguments->models,
+                   "model to run (repeatable; default: every registered model plus "
+                   "corotational_fem(linear), plain linear FEM)")
+      ->allow_extra_args(false);  // one name per --model: a scene after it stays a scene
+  command->add_option("--out", arguments->out_dir, "output folder")->capture_default_str();
+  command->add_option("--mesh", arguments->mesh,
+                      "replace every scene's mesh (e.g. SOFA's liver.msh for "
+                      "scenes/sofa_liver.json)");
+  command->add_flag("--no-plots", arguments->no_plots, "write compare.md and compare.json only");
+  command->callback([arguments] { compare(*arguments); });
+}
+
+}  // namespace softbench::harness

@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: MIT
+#include "collision/aabb.h"
+#include "collision/sphere.h"
+#include "collision/sphere_aabb.h"
+
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace softbench::collision {
+namespace {
+
+constexpr int kTrials = 2000;
+
+// Points scattered around a random centre at a random scale, including far from the origin, where
+// the sphere padding has to cover the round-off of large coordinates.
+Eigen::Matrix3Xd random_points(std::mt19937& rng, int count) {
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_real_distribution<double> log_scale(-3.0, 1.0);
+  const double scale = std::pow(10.0, log_scale(rng));
+  const Eigen::Vector3d offset(100.0 * unit(rng), 100.0 * unit(rng), unit(rng));
+  Eigen::Matrix3Xd points(3, count);
+  for (int i = 0; i < count; ++i) {
+    points.col(i) = offset + scale * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+  }
+  return points;
+}
+
+bool holds_all(const Sphere& sphere, const Eigen::Matrix3Xd& points) {
+  for (Eigen::Index i = 0; i < points.cols(); ++i) {
+    if (!sphere.contains(points.col(i))) {
+      return false;
+    }
+  }
+  return true;
+}
+
+TEST(Aabb, FitHoldsEveryPointAndTouchesEachFace) {
+  std::mt19937 rng(1);
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Eigen::Matrix3Xd points = random_points(rng, 1 + trial % 17);
+    const Aabb box = fit_aabb(points);
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      ASSERT_TRUE(box.contains(Eigen::Vector3d(points.col(i))));
+    }
+    // Tight: each bound is attained by some point (min/max are exact).
+    EXPECT_EQ(box.min, points.rowwise().minCoeff());
+    EXPECT_EQ(box.max, points.rowwise().maxCoeff());
+  }
+  EXPECT_TRUE(fit_aabb(Eigen::Matrix3Xd(3, 0)).empty());
+}
+
+TEST(Sphere, FitHoldsEveryPointAndIsNoLargerThanTheBoxCircumsphere) {
+  std::mt19937 rng(2);
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Eigen::Matrix3Xd points = random_points(rng, 1 + trial % 17);
+    const Sphere sphere = fit_sphere(points);
+    ASSERT_TRUE(holds_all(sphere, points)) << "trial " << trial;
+    const Aabb box = fit_aabb(points);
+    const double half_diagonal = 0.5 * box.extent().norm();
+    EXPECT_LE(sphere.radius, half_diagonal * (1 + 1e-12) + 1e-12 * box.max.cwiseAbs().maxCoeff());
+  }
+  EXPECT_TRUE(fit_sphere(Eigen::Matrix3Xd(3, 0)).empty());
+}
+
+TEST(Sphere, MergeHoldsBothInputsAndTheirPoints) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Eigen::Matrix3Xd first = random_points(rng, 1 + trial % 5);
+    Eigen::Matrix3Xd second = random_points(rng, 1 + trial % 7);
+    if (trial % 4 == 0) {
+      second = first * 0.5 + second * 0.5;  // nested or nearly concentric
+    }
+    const Sphere a = fit_sphere(first), b = fit_sphere(second);
+    const Sphere merged = merge(a, b);
+    EXPECT_TRUE(holds_all(merged, first)) << "trial " << trial;
+    EXPECT_TRUE(holds_all(merged, second)) << "trial " << trial;
+    // The merged sphere holds both spheres: its radius reaches past each.
+    for (const Sphere* part : {&a, &b}) {
+      EXPECT_LE((part->center - merged.center).norm() + part->radius,
+                merged.radius * (1 + 1e-12) + 1e-12 * merged.center.cwiseAbs().maxCoeff());
+    }
+    // And it is the smallest such: no larger than the larger input or the spanning sphere.
+    const double spanning = 0.5 * ((a.center - b.center).norm() + a.radius + b.radius);
+    EXPECT_LE(merged.radius, std::max({a.radius, b.radius, spanning}) * (1 + 1e-12)
+                                 + 1e-12 * merged.center.cwiseAbs().maxCoeff());
+  }
+  const Sphere one = fit_sphere(Eigen::Matrix3Xd::Ones(3, 1));
+  EXPECT_EQ(merge(one, Sphere{}).center, one.center);
+  EXPECT_EQ(merge(Sphere{}, one).radius, one.radius);
+}
+
+TEST(Aabb, MergeHoldsBoth) {
+  std::mt19937 rng(4);
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Aabb a = fit_aabb(random_points(rng, 3)), b = fit_aabb(random_points(rng, 4));
+    const Aabb merged = merge(a, b);
+    EXPECT_TRUE(merged.contains(a));
+    EXPECT_TRUE(merged.contains(b));
+    EXPECT_EQ(merged.min, a.min.cwiseMin(b.min));
+  }
+}
+
+// Brute-force references on a lattice: the overlap tests are exact statements about point sets,
+// so sampling cannot prove "overlap", but a dense grid of the intersection region can find a
+// common point when the volumes overlap by more than the grid spacing, and the closest-point
+// construction gives the exact answer for sphere-box.
+double box_box_gap(const Aabb& a, const Aabb& b) {
+  double gap = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    gap = std::max({gap, a.min[k] - b.max[k], b.min[k] - a.max[k]});
+  }
+  return gap;
+}
+
+TEST(Overlap, BoxBoxAgreesWithTheSeparatingAxisReference) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int overlapping = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    Aabb a, b;
+    a.extend(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    a.extend(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    b.extend(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    b.extend(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    // Boxes overlap iff no axis separates them: the largest per-axis gap is <= 0.
+    const bool expected = box_box_gap(a, b) <= 0.0;
+    EXPECT_EQ(overlap(a, b), expected);
+    EXPECT_EQ(overlap(b, a), expected);
+    overlapping += expected;
+  }
+  EXPECT_GT(overlapping, kTrials / 10);
+  EXPECT_LT(overlapping, kTrials * 9 / 10);
+  // Touching faces, edges and corners overlap (closed boxes).
+  Aabb unit_box, face, corner;
+  unit_box.extend(Eigen::Vector3d(0, 0, 0));
+  unit_box.extend(Eigen::Vector3d(1, 1, 1));
+  face.extend(Eigen::Vector3d(1, 0.2, 0.2));
+  face.extend(Eigen::Vector3d(2, 0.8, 0.8));
+  corner.extend(Eigen::Vector3d(1, 1, 1));
+  corner.extend(Eigen::Vector3d(2, 2, 2));
+  EXPECT_TRUE(overlap(unit_box, face));
+  EXPECT_TRUE(overlap(unit_box, corner));
+  corner.min.x() = std::nextafter(1.0, 2.0);
+  EXPECT_FALSE(overlap(unit_box, corner));
+}
+
+TEST(Overlap, SphereSphereAndSphereBoxAgreeWithClosestPointReferences) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_real_distribution<double> radius(0.05, 0.8);
+  int sphere_hits = 0, box_hits = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Sphere a{Eigen::Vector3d(unit(rng), unit(rng), unit(rng)), radius(rng)};
+    const Sphere b{Eigen::Vector3d(unit(rng), unit(rng), unit(rng)), radius(rng)};
+    // Reference: the point of a closest to b's centre lies in b.
+    const Eigen::Vector3d offset = b.center - a.center;
+    const Eigen::Vector3d nearest_of_a =
+        a.center + offset.normalized() * std::min(a.radius, offset.norm());
+    const bool spheres = (nearest_of_a - b.center).norm() <= b.radius;
+    EXPECT_EQ(overlap(a, b), spheres) << "trial " << trial;
+    sphere_hits += spheres;
+
+    Aabb box;
+    box.extend(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    box.extend(Eigen::Vector3d(unit(rng), unit(rng), unit(rng)));
+    const Eigen::Vector3d clamped = a.center.cwiseMax(box.min).cwiseMin(box.max);
+    const bool mixed = (clamped - a.center).norm() <= a.radius;
+    EXPECT_EQ(overlap(a, box), mixed) << "trial " << trial;
+    EXPECT_EQ(overlap(box, a), mixed) << "trial " << trial;
+    EXPECT_NEAR(std::sqrt(squared_distance(box, a.center)), (clamped - a.center).norm(), 1e-15);
+    box_hits += mixed;
+  }
+  EXPECT_GT(sphere_hits, kTrials / 10);
+  EXPECT_LT(sphere_hits, kTrials * 9 / 10);
+  EXPECT_GT(box_hits, kTrials / 10);
+  EXPECT_LT(box_hits, kTrials * 9 / 10);
+}
+
+TEST(SphereAabb, OverlapsOnlyWhereBothVolumesOverlapAndDistanceIsTheLargerBound) {
+  std::mt19937 rng(7);
+  int rejected_by_box_only = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const SphereAabb a = fit_sphere_aabb(random_points(rng, 4));
+    SphereAabb b = fit_sphere_aabb(random_points(rng, 4));
+    EXPECT_EQ(overlap(a, b), overlap(a.sphere, b.sphere) && overlap(a.box, b.box));
+    rejected_by_box_only += overlap(a.sphere, b.sphere) && !overlap(a.box, b.box);
+    const Eigen::Vector3d point = b.sphere.center;
+    EXPECT_DOUBLE_EQ(distance(a, point), std::max(distance(a.sphere, point),
+                                                  std::sqrt(squared_distance(a.box, point))));
+  }
+  // Random points at random scales: some pairs must exercise the box after a sphere pass.
+  EXPECT_GT(rejected_by_box_only, 0);
+}
+
+TEST(SphereAabb, FitHoldsEveryPointInBothVolumes) {
+  std::mt19937 rng(8);
+  for (int trial = 0; trial < kTrials; ++trial) {
+    const Eigen::Matrix3Xd points = random_points(rng, 1 + trial % 11);
+    const SphereAabb volume = fit_sphere_aabb(points);
+    for (Eigen::Index i = 0; i < points.cols(); ++i) {
+      ASSERT_TRUE(volume.contains(points.col(i)));
+      EXPECT_EQ(distance(volume, points.col(i)), 0.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace softbench::collision

@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
+"""Draws the plots of `softbench compare` from its compare.json with matplotlib.
+
+Usage: plot_compare.py compare.json [--out DIR]
+
+Writes into DIR (default: the folder of compare.json), each atomically (temporary + rename):
+  steps_per_second.png            steps/s per model and scene, simulation only and with
+                                  collision, log scale, the thesis's FPS marked
+  force_displacement_<scene>.png  instrument (or grasp) force against its displacement, per model
+  recovery_<scene>.png            recovery residual over time after the release, per model, log y
+A scene with no tool load has no force plot, one with no release no recovery plot. Prints the
+path of every file written, one per line (softbench reads them).
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import sys
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")  # no display needed
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def finite_pairs(xs, ys):
+    """The (x, y) pairs where both are numbers (null in JSON is NaN: no value yet)."""
+    pairs = [(x, y) for x, y in zip(xs, ys)
+             if x is not None and y is not None and math.isfinite(x) and math.isfinite(y)]
+    return [p[0] for p in pairs], [p[1] for p in pairs]
+
+
+def safe_name(name):
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)
+
+
+def save(figure, path):
+    """Saves atomically, so a viewer never sees a half-written PNG."""
+    folder = os.path.dirname(os.path.abspath(path))
+    handle, temporary = tempfile.mkstemp(suffix=".png", dir=folder)
+    os.close(handle)
+    try:
+        figure.savefig(temporary, dpi=120, format="png")
+        umask = os.umask(0)  # mkstemp makes the file private: give it the usual mode
+        os.umask(umask)
+        os.chmod(temporary, 0o666 & ~umask)
+        os.replace(temporary, path)
+    except BaseException:
+        os.unlink(temporary)
+        raise
+    finally:
+        plt.close(figure)
+    print(path)
+
+
+def plot_steps_per_second(data, out):
+    scenes = data["scenes"]
+    labels = []
+    for scene in scenes:
+        for run in scene["runs"]:
+            if run["model"] not in labels:
+                labels.append(run["model"])
+    if not labels:
+        return
+    series = []  # (legend, values per label, colour, with collision)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for index, scene in enumerate(scenes):
+        by_label = {run["model"]: run for run in scene["runs"]}
+        colour = colours[index % len(colours)]
+        for key, what in (("fps", "simulation"), ("fps_with_collision", "with collision")):
+            values = [by_label[label][key] if label in by_label else 0.0 for label in labels]
+            series.append((scene["name"] + ", " + what, values, colour, key != "fps"))
+    width = 0.8 / len(series)
+    figure, axes = plt.subplots(figsize=(max(8.0, 1.4 * len(labels) + 4.5), 5.0))
+    for index, (legend, values, colour, collision) in enumerate(series):
+        positions = [i - 0.4 + width * (index + 0.5) for i in range(len(labels))]
+        heights = [v if v and v > 0 else float("nan") for v in values]
+        axes.bar(positions, heights, width, label=legend, color=colour,
+                 alpha=0.55 if collision else 1.0, hatch="//" if collision else None,
+                 edgecolor="black", linewidth=0.5)
+    thesis = {}
+    for scene in scenes:
+        for run in scene["runs"]:
+            if run.get("thesis_steps_per_second"):
+                thesis.setdefault(run["model"], run["thesis_steps_per_second"])
+    thesis_x = [i for i, label in enumerate(labels) if label in thesis]
+    thesis_y = [thesis[labels[i]] for i in thesis_x]
+    if thesis_x:
+        axes.scatter(thesis_x, thesis_y, marker="D", s=70, color="black", zorder=5,
+                     label="thesis (i3-2100, FPS with rendering)")
+    axes.axhline(50.0, color="grey", linestyle=":", linewidth=1)
+    axes.text(-0.45, 50.0, "50 steps/s", va="bottom", ha="left", color="grey", fontsize=8)
+    axes.set_yscale("log")
+    axes.set_xticks(range(len(labels)))
+    axes.set_xticklabels(labels, rotation=20, ha="right")
+    axes.set_ylabel("steps per second")
+    axes.set_title("Speed per model (" + data.get("machine", "") + ")", fontsize=10)
+    axes.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    axes.grid(True, axis="y", which="both", alpha=0.3)
+    figure.tight_layout()
+    save(figure, os.path.join(out, "steps_per_second.png"))
+
+
+def plot_force_displacement(scene, out):
+    figure, axes = plt.subplots(figsize=(7.0, 5.0))
+    drawn = False
+    for run in scene["runs"]:
+        samples = run["samples"]
+        xs, ys = finite_pairs(samples["tool_displacement"], samples["tool_force"])
+        if xs and (max(xs) > 0.0 or max(ys) > 0.0):
+            axes.plot([1000.0 * x for x in xs], ys, label=run["model"], linewidth=1.2)
+            drawn = True
+    if not drawn:
+        plt.close(figure)
+        return
+    axes.set_xlabel("tool displacement (mm)")
+    axes.set_ylabel("force on the tool (N)")
+    axes.set_title("Force-displacement: " + scene["name"])
+    axes.grid(True, alpha=0.3)
+    axes.legend(fontsize=8)
+    figure.tight_layout()
+    save(figure, os.path.join(out, "force_displacement_" + safe_name(scene["name"]) + ".png"))
+
+
+def plot_recovery(scene, out):
+    figure, axes = plt.subplots(figsize=(7.0, 5.0))
+    drawn = False
+    for run in scene["runs"]:
+        samples = run["samples"]
+        ts, rs = finite_pairs(samples["time"], samples["recovery_residual"])
+        points = [(t, 100.0 * r) for t, r in zip(ts, rs) if r > 0.0]  # log axis: positive only
+        if points:
+            axes.plot([p[0] for p in points], [p[1] for p in points], label=run["model"],
+                      linewidth=1.2)
+            drawn = True
+    if not drawn:
+        plt.close(figure)
+        return
+    axes.axhline(1.0, color="grey", linestyle=":", linewidth=1)
+    axes.set_yscale("log")
+    axes.set_xlabel("time (s)")
+    axes.set_ylabel("recovery residual (% of bounding-box diagonal)")
+    axes.set_title("Recovery after release: " + scene["name"])
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=8)
+    figure.tight_layout()
+    save(figure, os.path.join(out, "recovery_" + safe_name(scene["name"]) + ".png"))
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("compare_json")
+    parser.add_argument("--out", default=None)
+    arguments = parser.parse_args()
+    with open(arguments.compare_json, encoding="utf-8") as handle:
+        data = json.load(handle)
+    out = arguments.out or os.path.dirname(os.path.abspath(arguments.compare_json))
+    os.makedirs(out, exist_ok=True)
+    plot_steps_per_second(data, out)
+    for scene in data["scenes"]:
+        plot_force_displacement(scene, out)
+        plot_recovery(scene, out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
