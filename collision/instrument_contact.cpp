@@ -36,6 +36,52 @@ Eigen::Vector3d direction(const Eigen::Vector3d& from,
   return length > 1e-12 ? Eigen::Vector3d(d / length) : fallback;
 }
 
+// Points on the instrument's surface no farther apart than `spacing`: its vertices plus, on each
+// triangle longer than that, a barycentric grid. A coarse instrument (a cube of 12 triangles)
+// presses the tissue with its faces, not only its corners.
+Eigen::Matrix3Xd surface_samples(const TriMesh& mesh, double spacing) {
+  std::vector<Eigen::Vector3d> samples;
+  for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v) {
+    samples.emplace_back(mesh.vertices.col(v));
+  }
+  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
+    const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
+    const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t));
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int n = static_cast<int>(std::ceil(longest / spacing));
+    // Grid points i/n, j/n of the triangle, corners excluded (they are vertices); edge points
+    // are shared with the neighbour and may repeat, which costs a query, not an answer.
+    for (int i = 0; i <= n; ++i) {
+      for (int j = 0; i + j <= n; ++j) {
+        if ((i == 0 && j == 0) || i == n || j == n) {
+          continue;
+        }
+        const double u = static_cast<double>(i) / n;
+        const double w = static_cast<double>(j) / n;
+        samples.emplace_back(a + u * (b - a) + w * (c - a));
+      }
+    }
+  }
+  Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(samples.size()));
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    points.col(static_cast<Eigen::Index>(i)) = samples[i];
+  }
+  return points;
+}
+
+// Half the tissue surface's mean edge length: the instrument samples no tissue triangle can pass
+// between.
+double sample_spacing(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xi& triangles) {
+  double total = 0.0;
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      total += (positions.col(triangles(k, t)) - positions.col(triangles((k + 1) % 3, t))).norm();
+    }
+  }
+  return 0.5 * total / static_cast<double>(std::max<Eigen::Index>(3 * triangles.cols(), 1));
+}
+
 }  // namespace
 
 InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
@@ -51,7 +97,9 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
       instrument_tree_(instrument.vertices, instrument.triangles, options_.instrument_schedule),
       instrument_triangles_(instrument.triangles),
       instrument_local_(instrument.vertices),
-      instrument_world_(instrument.vertices) {
+      instrument_world_(instrument.vertices),
+      samples_local_(
+          surface_samples(instrument, sample_spacing(tissue_positions, tissue_surface))) {
   const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
   pressed_.assign(vertices, 0);
   has_move_.assign(vertices, 0);
@@ -111,7 +159,7 @@ void InstrumentContact::resolve_tissue_vertices(const Eigen::Isometry3d& pose,
   for (int vertex : surface_vertices_) {
     const Eigen::Vector3d x = positions.col(vertex);
     const Eigen::Vector3d free_flight = predicted_.col(vertex);
-    if (!contains(reach, x) && !contains(reach, free_flight)) {
+    if (!contains(reach, x) && !contains(reach, free_flight) && !was_pressed(vertex)) {
       continue;
     }
     const Eigen::Vector3d local = to_local * x;
@@ -138,8 +186,8 @@ void InstrumentContact::resolve_instrument_vertices() {
   const double margin = options_.margin;
   const Aabb reach =
       inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
-  for (Eigen::Index i = 0; i < instrument_world_.cols(); ++i) {
-    const Eigen::Vector3d p = instrument_world_.col(i);
+  for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
+    const Eigen::Vector3d p = samples_world_.col(i);
     if (!contains(reach, p)) {
       continue;
     }
@@ -153,7 +201,7 @@ void InstrumentContact::resolve_instrument_vertices() {
     }
     // Move the surface point under the vertex inward by the shortfall (outward, to meet the
     // instrument, for tissue that is about to run into it).
-    const double shortfall = margin - nearest.signed_distance;
+    const double shortfall = std::max(0.0, margin - nearest.signed_distance);
     const Eigen::Vector3d inward = -nearest.normal;
     const Eigen::Vector3d& w = nearest.barycentric;
     const double weight_norm = w.squaredNorm();
@@ -183,6 +231,7 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   // within the step.
   predicted_ = positions + dt * velocities;
   instrument_world_ = pose * instrument_local_;
+  samples_world_ = pose * samples_local_;
   instrument_tree_.refit(instrument_world_);
   tissue_distance_.update(positions);
   predicted_distance_.update(predicted_);
@@ -209,7 +258,7 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
 ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
                                          const Eigen::Matrix3Xd& positions) {
   ContactReport report;
-  const Eigen::Matrix3Xd world = pose * instrument_local_;
+  const Eigen::Matrix3Xd world = pose * samples_local_;
   const Aabb instrument_box = fit_aabb(world);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (int vertex : surface_vertices_) {

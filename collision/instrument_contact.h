@@ -6,10 +6,13 @@
 //   - a tissue vertex inside the instrument is projected to the instrument's surface (plus the
 //     margin), found by the nearest point on the instrument mesh and an angle-weighted
 //     pseudonormal inside test, in the instrument's own frame (its tree never changes);
-//   - an instrument vertex inside the tissue (a thin tip between tissue vertices) pushes the
-//     nearest tissue surface triangle inward along its normal until the vertex is the margin
-//     outside; the push is spread over the triangle's vertices by their barycentric weights
-//     (the least-norm vertex displacements that move that point of the triangle by the push).
+//   - a point of the instrument inside the tissue (a thin tip between tissue vertices, the face
+//     of a blunt tool) pushes the nearest tissue surface triangle inward along its normal until
+//     the point is the margin outside; the push is spread over the triangle's vertices by their
+//     barycentric weights (the least-norm vertex displacements that move that point of the
+//     triangle by the push). The points are the instrument's vertices plus samples on its
+//     faces no farther apart than half the tissue surface's mean edge, so that no tissue
+//     triangle passes between them.
 // A vertex that several contacts move keeps the largest move. Contact is judged on the tissue
 // where it is and where it would be at the step's end without contact (x + dt v). Contacts hold
 // while tissue and instrument are within twice the margin and the previous step's constraint
@@ -109,6 +112,8 @@ class InstrumentContact {
   Eigen::Matrix3Xi instrument_triangles_;
   Eigen::Matrix3Xd instrument_local_;
   Eigen::Matrix3Xd instrument_world_;
+  Eigen::Matrix3Xd samples_local_;  ///< points on the instrument's surface (vertices and more)
+  Eigen::Matrix3Xd samples_world_;
   Eigen::Matrix3Xd predicted_;  ///< the tissue at the step's end without contact
   CollideBuffers buffers_;
   std::vector<TrianglePair> pairs_;
