@@ -7,6 +7,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_validation.h"
 #include "models/model_registry.h"
+#include "scenes/instrument_path.h"
 #include "scenes/scene.h"
 #include "scenes/shipped_data.h"
 #include "tests/test_meshes.h"
@@ -189,7 +190,7 @@ TEST_P(ShippedSceneRegions, LoadAndFixBetweenThreeAndFifteenPercentOfTheLiver) {
   const double fraction = static_cast<double>(fixed) / liver.num_vertices();
   EXPECT_GE(fraction, 0.03) << fixed << " fixed";
   EXPECT_LE(fraction, 0.15) << fixed << " fixed";
-  if (scene.grasp) {
+  if (scene.grasp || (scene.instrument && scene.instrument->grasp)) {
     const std::vector<int> grasped = grasped_vertices(scene, liver);
     EXPECT_GE(grasped.size(), 8u);
     EXPECT_LE(grasped.size(), 40u);
@@ -211,10 +212,13 @@ TEST_P(ShippedSceneRegions, LoadAndFixBetweenThreeAndFifteenPercentOfTheLiver) {
   EXPECT_EQ(to_json(parse_scene(to_json(scene), scene.source)), to_json(scene));
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Liver,
-    ShippedSceneRegions,
-    ::testing::Values("liver_gravity", "liver_pull", "liver_gravity_tissue", "liver_pull_tissue"));
+INSTANTIATE_TEST_SUITE_P(Liver,
+                         ShippedSceneRegions,
+                         ::testing::Values("liver_gravity",
+                                           "liver_pull",
+                                           "liver_press",
+                                           "liver_gravity_tissue",
+                                           "liver_pull_tissue"));
 
 TEST(ShippedScenes, GravitySceneSagsForHalfTheRunThenLetsGo) {
   for (const char* name : {"liver_gravity", "liver_gravity_tissue"}) {
@@ -229,20 +233,44 @@ TEST(ShippedScenes, GravitySceneSagsForHalfTheRunThenLetsGo) {
   }
 }
 
-TEST(ShippedScenes, PullScenePullsThirtyPercentOfTheLiversLengthAndReleases) {
-  for (const char* name : {"liver_pull", "liver_pull_tissue"}) {
-    const Scene scene =
-        load_scene(shipped_data_dir().parent_path() / (std::string(name) + ".json"));
-    ASSERT_TRUE(scene.grasp.has_value());
-    EXPECT_EQ(scene.gravity.off_at, kNever);
-    EXPECT_EQ(scene.duration, 4.0);
-    EXPECT_EQ(scene.num_steps(), 240);
-    EXPECT_EQ(scene.reference_time(), 1.0);
-    EXPECT_EQ(scene.release_time(), 2.0);
-    EXPECT_EQ(grasp_offset(*scene.grasp, 1.0), Eigen::Vector3d::Zero());
-    EXPECT_NEAR(grasp_offset(*scene.grasp, 1.5).norm(), 0.06, 1e-4);
-    EXPECT_EQ(grasp_offset(*scene.grasp, 1.5), grasp_offset(*scene.grasp, 2.0));  // held
+TEST(ShippedScenes, PullScenesPullThirtyPercentOfTheLiversLengthAndRelease) {
+  const Scene tissue = load_scene(shipped_data_dir().parent_path() / "liver_pull_tissue.json");
+  ASSERT_TRUE(tissue.grasp.has_value());
+  EXPECT_EQ(grasp_offset(*tissue.grasp, 1.0), Eigen::Vector3d::Zero());
+  EXPECT_NEAR(grasp_offset(*tissue.grasp, 1.5).norm(), 0.06, 1e-4);
+  EXPECT_EQ(grasp_offset(*tissue.grasp, 1.5), grasp_offset(*tissue.grasp, 2.0));  // held
+
+  // liver_pull.json grasps with the probe: the patch moves with the tool's pose.
+  const Scene pull = load_scene(shipped_data_dir().parent_path() / "liver_pull.json");
+  ASSERT_TRUE(pull.instrument && pull.instrument->grasp);
+  const auto tool_at = [&](double t) -> Eigen::Vector3d {
+    return instrument_pose(*pull.instrument, t).translation();
+  };
+  EXPECT_NEAR((tool_at(1.5) - tool_at(1.0)).norm(), 0.06, 1e-4);
+  EXPECT_EQ(tool_at(1.5), tool_at(2.0));  // held
+
+  for (const Scene* scene : {&tissue, &pull}) {
+    EXPECT_EQ(scene->gravity.off_at, kNever);
+    EXPECT_EQ(scene->duration, 4.0);
+    EXPECT_EQ(scene->num_steps(), 240);
+    EXPECT_EQ(scene->reference_time(), 1.0);
+    EXPECT_EQ(scene->release_time(), 2.0);
   }
+}
+
+TEST(ShippedScenes, PressScenePressesTwoCentimetresPastTheSettledSurfaceAndWithdraws) {
+  const Scene press = load_scene(shipped_data_dir().parent_path() / "liver_press.json");
+  ASSERT_TRUE(press.instrument.has_value());
+  EXPECT_FALSE(press.instrument->grasp.has_value());
+  const auto tip_at = [&](double t) -> Eigen::Vector3d {
+    return instrument_pose(*press.instrument, t).translation();
+  };
+  // 1 cm above corotational_fem's settled surface at 2.0 s, 2 cm past it at 2.5 s, held.
+  EXPECT_NEAR(tip_at(2.0).z() - tip_at(2.5).z(), 0.03, 1e-12);
+  EXPECT_EQ(tip_at(2.5), tip_at(3.0));
+  EXPECT_EQ(tip_at(3.5), tip_at(0.0));  // withdrawn to where it started
+  EXPECT_EQ(press.reference_time(), 1.5);
+  EXPECT_EQ(press.release_time(), 3.0);
 }
 
 TEST(ShippedScenes, TissueVariantsUseMeasuredLiverStiffness) {
