@@ -105,23 +105,52 @@ def plot_steps_per_second(data, out):
     save(figure, os.path.join(out, "steps_per_second.png"))
 
 
+def release_time(scene):
+    """When the tool lets go (scene JSON as metrics.json echoes it); infinity if never."""
+    settings = scene["scene"]
+    instrument = settings.get("instrument")
+    if instrument:
+        grasp = instrument.get("grasp")
+        return grasp["release"] if grasp else instrument.get("release", math.inf)
+    grasp = settings.get("grasp")
+    return grasp.get("release", math.inf) if grasp else math.inf
+
+
 def plot_force_displacement(scene, out):
-    figure, axes = plt.subplots(figsize=(7.0, 5.0))
+    """Left: the loading curve, force against the tool's travel past first contact, up to the
+    release (each model meets the tissue where its own sag put it). Right: force over time."""
+    figure, (loading, history) = plt.subplots(1, 2, figsize=(11.0, 4.6))
+    release = release_time(scene)
     drawn = False
     for run in scene["runs"]:
         samples = run["samples"]
-        xs, ys = finite_pairs(samples["tool_displacement"], samples["tool_force"])
-        if xs and (max(xs) > 0.0 or max(ys) > 0.0):
-            axes.plot([1000.0 * x for x in xs], ys, label=run["model"], linewidth=1.2)
-            drawn = True
+        times = samples["time"]
+        forces = samples["tool_force"]
+        travel = samples["tool_displacement"]
+        contact = next((i for i, f in enumerate(forces) if f is not None and f > 0.0), None)
+        if contact is None:
+            continue
+        drawn = True
+        pressing = [i for i in range(contact, len(times)) if times[i] <= release]
+        xs, ys = finite_pairs([1000.0 * (travel[i] - travel[contact]) for i in pressing],
+                              [forces[i] for i in pressing])
+        loading.plot(xs, ys, label=run["model"], linewidth=1.2)
+        ts, fs = finite_pairs(times, forces)
+        history.plot(ts, fs, label=run["model"], linewidth=1.0)
     if not drawn:
         plt.close(figure)
         return
-    axes.set_xlabel("tool displacement (mm)")
-    axes.set_ylabel("force on the tool (N)")
-    axes.set_title("Force-displacement: " + scene["name"])
-    axes.grid(True, alpha=0.3)
-    axes.legend(fontsize=8)
+    loading.set_xlabel("tool travel past first contact (mm)")
+    loading.set_ylabel("force on the tool (N)")
+    loading.set_title("Loading until release: " + scene["name"], fontsize=10)
+    loading.grid(True, alpha=0.3)
+    loading.legend(fontsize=8)
+    history.set_xlabel("time (s)")
+    history.set_ylabel("force on the tool (N)")
+    history.set_title("Force over time", fontsize=10)
+    if math.isfinite(release):
+        history.axvline(release, color="grey", linestyle="--", linewidth=0.8)
+    history.grid(True, alpha=0.3)
     figure.tight_layout()
     save(figure, os.path.join(out, "force_displacement_" + safe_name(scene["name"]) + ".png"))
 
