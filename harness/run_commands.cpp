@@ -78,8 +78,10 @@ void add_run_commands(CLI::App& app) {
   CLI::App* run_command = app.add_subcommand(
       "run", "Run a scene through models; write metrics.json, summary.md and optional frames");
   run_command->add_option("scene", run_arguments->scene, "scene file (.json)")->required();
-  run_command->add_option("--model", run_arguments->models,
-                          "model to run (repeatable; default: every registered model)");
+  run_command
+      ->add_option("--model", run_arguments->models,
+                   "model to run (repeatable; default: every registered model)")
+      ->allow_extra_args(false);  // one name per --model: a scene after it stays a scene
   run_command->add_option("--out", run_arguments->out_dir, "output folder (default: out/<scene>)");
   run_command->add_option("--mesh", run_arguments->mesh,
                           "replace the scene's mesh (e.g. SOFA's liver.msh for sofa_liver.json)");
