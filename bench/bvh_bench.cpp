@@ -5,7 +5,9 @@
 // BVHModel<AABBd> as the outside peer.
 //
 // Meshes: the shipped liver (scenes/data/liver.msh), as (a) every unique face of its tets (the
-// thesis collided the full tet-face set, 9313 triangles there) and (b) its boundary surface; the
+// thesis collided the full tet-face set, 9313 triangles there), (b) its boundary surface and
+// (c) that surface conforming to the probe (see conformed(): the rigid probe alone makes at most
+// ~140 pairs with the coarse surface, so (c) covers ~100 to ~1100); the
 // instrument scenes/data/instrument_probe.obj (a 3 mm radius probe), laid along x over the liver
 // and lowered along -z. The lowering depth for each target pair count is found by a scan plus
 // bisection on the hybrid tree's exact count; the benchmark reports the count it actually got.
@@ -17,6 +19,7 @@
 // re-transforms and refits on every call), bottom-up refit of both models, collide() with all
 // contacts and contact points (the analogue of our segments).
 // Counters: refit_us and query_us split the frame; pairs is the intersecting-pair count.
+// BM_Compare times hybrid, sphere and AABB interleaved (see run_compare) for the goal check.
 #include "collision/bvh.h"
 #include "collision/bvh_collide.h"
 #include "collision/bvh_schedule.h"
@@ -58,6 +61,11 @@ constexpr double kScanRange = 0.05;   // m: how far past first contact the scan 
 // m: the "0 pairs" placement is this far above first contact: close enough that the trees
 // descend (the thesis's instrument approaching), far enough that breathing does not touch.
 constexpr double kClearance = 2.5e-4;
+// Conforming scenes (see conformed()): bands scanned, in probe radii, and the radial jitter.
+constexpr double kConformFirstBand = 1.0;
+constexpr double kConformStep = 0.125;
+constexpr double kConformRange = 24.0;
+constexpr double kConformJitter = 0.3;
 
 // Every unique face of the tets (orientation irrelevant for collision), sorted.
 Eigen::Matrix3Xi unique_tet_faces(const Eigen::Matrix4Xi& tets) {
@@ -88,9 +96,21 @@ Eigen::Matrix3Xi unique_tet_faces(const Eigen::Matrix4Xi& tets) {
 struct Scene {
   std::string name;
   Eigen::Matrix3Xi liver_triangles;
-  std::array<Eigen::Matrix3Xd, 2> liver_positions;  // the two breathing states
+  Eigen::Matrix3Xd liver_rest;
   Eigen::Matrix3Xi tool_triangles;
   Eigen::Matrix3Xd tool_rest;  // laid along x, lowest point at the liver's top, not yet lowered
+  double tool_radius = 0.0;    // m: the probe shaft's radius
+  // Conforming scenes keep the probe pressed in by its radius and vary how wide a band of liver
+  // vertices wraps around it (placement parameter: the band, in probe radii); the others lower
+  // the rigid probe onto the undeformed liver (parameter: the depth, m).
+  bool conforming = false;
+};
+
+// Where both meshes are at one placement: the instrument in world coordinates and the liver's
+// two breathing states.
+struct Pose {
+  Eigen::Matrix3Xd tool;
+  std::array<Eigen::Matrix3Xd, 2> liver;
 };
 
 Eigen::Matrix3Xd lowered(const Scene& scene, double depth) {
@@ -99,60 +119,113 @@ Eigen::Matrix3Xd lowered(const Scene& scene, double depth) {
   return world;
 }
 
+// The liver and the same scaled about its centroid by kBreathing at the farthest vertex.
+std::array<Eigen::Matrix3Xd, 2> breathing(const Eigen::Matrix3Xd& liver) {
+  const Eigen::Vector3d centroid = liver.rowwise().mean();
+  const double reach = (liver.colwise() - centroid).colwise().norm().maxCoeff();
+  return {liver, ((liver.colwise() - centroid) * (1.0 + kBreathing / reach)).colwise() + centroid};
+}
+
+// The notes' "soft tissue conforming to the tool" (../shared/notes/collision.md, section 3):
+// liver vertices within band * r of the probe's axis (and within its length) move radially onto
+// radius r (1 +- kConformJitter), the sign alternating with the vertex index, so that the liver's
+// triangles zig-zag across the probe's surface as tissue pressed around an instrument does. The
+// rigid probe alone cannot make more than ~140 pairs with the 1622-triangle surface (its
+// triangles are large: a straight probe crosses few of them), conforming tissue can.
+Eigen::Matrix3Xd conformed(const Scene& scene, const Eigen::Matrix3Xd& tool, double band) {
+  const Eigen::Vector3d lo = tool.rowwise().minCoeff(), hi = tool.rowwise().maxCoeff();
+  const Eigen::Vector3d axis = 0.5 * (lo + hi);
+  Eigen::Matrix3Xd liver = scene.liver_rest;
+  for (Eigen::Index v = 0; v < liver.cols(); ++v) {
+    if (liver(0, v) < lo.x() || liver(0, v) > hi.x()) {
+      continue;
+    }
+    const Eigen::Vector2d offset(liver(1, v) - axis.y(), liver(2, v) - axis.z());
+    const double distance = offset.norm();
+    if (distance > 0.0 && distance < band * scene.tool_radius) {
+      const double radius =
+          scene.tool_radius * (1.0 + (v % 2 == 0 ? kConformJitter : -kConformJitter));
+      liver.block<2, 1>(1, v) = Eigen::Vector2d(axis.y(), axis.z()) + offset * (radius / distance);
+    }
+  }
+  return liver;
+}
+
+Pose make_pose(const Scene& scene, double parameter) {
+  if (!scene.conforming) {
+    return {lowered(scene, parameter), breathing(scene.liver_rest)};
+  }
+  Eigen::Matrix3Xd tool = lowered(scene, scene.tool_radius);
+  std::array<Eigen::Matrix3Xd, 2> liver = breathing(conformed(scene, tool, parameter));
+  return {std::move(tool), std::move(liver)};
+}
+
 struct Trees {
   Bvh liver;
   Bvh tool;
 };
 
+// Built at rest (as a simulation builds them once), refitted per frame.
 Trees build_trees(const Scene& scene, const BvhSchedule& liver, const BvhSchedule& tool) {
-  return {Bvh(scene.liver_positions[0], scene.liver_triangles, liver),
+  return {Bvh(scene.liver_rest, scene.liver_triangles, liver),
           Bvh(scene.tool_rest, scene.tool_triangles, tool)};
 }
 
-int count_pairs(Trees& trees, const Scene& scene, double depth) {
-  const Eigen::Matrix3Xd tool = lowered(scene, depth);
-  trees.tool.refit(tool);
+int count_pairs(Trees& trees, const Scene& scene, double parameter) {
+  const Pose pose = make_pose(scene, parameter);
+  trees.liver.refit(pose.liver[0]);
+  trees.tool.refit(pose.tool);
   CollideBuffers buffers;
   std::vector<TrianglePair> pairs;
-  collide(trees.liver, scene.liver_positions[0], trees.tool, tool, buffers, pairs, nullptr,
-          tri_tri_projection);
+  collide(trees.liver, pose.liver[0], trees.tool, pose.tool, buffers, pairs);
   return static_cast<int>(pairs.size());
 }
 
 struct Placement {
   int target = 0;
-  double depth = 0.0;
+  double parameter = 0.0;  // depth (m) or band (probe radii), see Scene
   int pairs = 0;
+  Pose pose;
 };
 
-// Depths for the target counts: a scan from first contact, then bisection inside the first scan
-// step whose counts reach the target. The first target above the scan's maximum gets the
-// maximum's depth (reported); later ones are dropped.
+// Placement parameters for the target counts: a scan from first contact (conforming scenes: from
+// the narrowest band), then bisection inside the first scan step whose counts reach the target.
+// The first target above the scan's maximum gets the maximum's parameter (reported); later ones
+// are dropped. Conforming scenes skip the targets below their first count (the rigid placements
+// of the same surface cover those).
 std::vector<Placement> find_placements(const Scene& scene) {
   Trees trees = build_trees(scene, BvhSchedule::liver(), BvhSchedule::instrument());
-  // First contact: the first scan step with a pair, then bisection inside it (the count is not
-  // monotone in depth, on the surface it drops to 0 once the probe is submerged).
-  double hi = 0.0;
-  while (count_pairs(trees, scene, hi) == 0) {
-    hi += kScanStep;
+  double contact = kConformFirstBand, step_size = kConformStep, range = kConformRange;
+  if (!scene.conforming) {
+    // First contact: the first scan step with a pair, then bisection inside it (the count is
+    // not monotone in depth, on the surface it drops to 0 once the probe is submerged).
+    double hi = 0.0;
+    while (count_pairs(trees, scene, hi) == 0) {
+      hi += kScanStep;
+    }
+    double lo = hi - kScanStep;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (count_pairs(trees, scene, mid) > 0 ? hi : lo) = mid;
+    }
+    contact = hi;
+    step_size = kScanStep;
+    range = kScanRange;
   }
-  double lo = hi - kScanStep;
-  for (int i = 0; i < 40; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (count_pairs(trees, scene, mid) > 0 ? hi : lo) = mid;
-  }
-  const double contact = hi;
-  std::vector<double> depths;
+  std::vector<double> parameters;
   std::vector<int> counts;
-  for (double d = contact; d <= contact + kScanRange; d += kScanStep) {
-    depths.push_back(d);
+  for (double d = contact; d <= contact + range; d += step_size) {
+    parameters.push_back(d);
     counts.push_back(count_pairs(trees, scene, d));
   }
   std::vector<Placement> placements;
   for (const int target : kTargetPairs) {
+    if (scene.conforming && target < counts.front()) {
+      continue;
+    }
     if (target == 0) {
       const double depth = contact - kClearance;
-      placements.push_back({target, depth, count_pairs(trees, scene, depth)});
+      placements.push_back({target, depth, count_pairs(trees, scene, depth), {}});
       continue;
     }
     std::size_t step = 1;
@@ -161,24 +234,27 @@ std::vector<Placement> find_placements(const Scene& scene) {
     }
     if (step == counts.size()) {
       // Unreachable: the most the scan found, once; the later targets are dropped.
-      const auto best = std::max_element(counts.begin(), counts.end()) - counts.begin();
-      placements.push_back(
-          {target, depths[static_cast<std::size_t>(best)], counts[static_cast<std::size_t>(best)]});
+      const auto best =
+          static_cast<std::size_t>(std::max_element(counts.begin(), counts.end()) - counts.begin());
+      placements.push_back({target, parameters[best], counts[best], {}});
       std::fprintf(stderr, "%s: at most %d pairs in the scan; targets from %d on not reached\n",
                    scene.name.c_str(), placements.back().pairs, target);
       break;
     }
-    double a = depths[step - 1], b = depths[step];
-    Placement best{target, b, counts[step]};
+    double a = parameters[step - 1], b = parameters[step];
+    Placement best{target, b, counts[step], {}};
     for (int i = 0; i < 30; ++i) {
       const double mid = 0.5 * (a + b);
       const int count = count_pairs(trees, scene, mid);
       if (std::abs(count - target) < std::abs(best.pairs - target)) {
-        best = {target, mid, count};
+        best = {target, mid, count, {}};
       }
       (count < target ? a : b) = mid;
     }
     placements.push_back(best);
+  }
+  for (Placement& placement : placements) {
+    placement.pose = make_pose(scene, placement.parameter);
   }
   return placements;
 }
@@ -191,11 +267,7 @@ Scene make_scene(const std::string& name,
   scene.name = name;
   scene.liver_triangles = triangles;
   const Eigen::Matrix3Xd& rest = liver.vertices;
-  const Eigen::Vector3d centroid = rest.rowwise().mean();
-  const double reach = (rest.colwise() - centroid).colwise().norm().maxCoeff();
-  scene.liver_positions[0] = rest;
-  scene.liver_positions[1] =
-      (((rest.colwise() - centroid) * (1.0 + kBreathing / reach)).colwise() + centroid);
+  scene.liver_rest = rest;
   // The probe's axis is z from 0 to its length: turn it onto x, centre it over the liver's
   // bounding box, and put its lowest point at the liver's highest.
   const Eigen::Matrix3d z_to_x = Eigen::AngleAxisd(0.5 * M_PI, Eigen::Vector3d::UnitY()).matrix();
@@ -208,6 +280,7 @@ Scene make_scene(const std::string& name,
   shift.z() = rest.row(2).maxCoeff() - turned.row(2).minCoeff();
   scene.tool_rest = turned.colwise() + shift;
   scene.tool_triangles = tool.triangles;
+  scene.tool_radius = 0.5 * (turned.row(1).maxCoeff() - turned.row(1).minCoeff());
   return scene;
 }
 
@@ -256,14 +329,14 @@ void run_ours(benchmark::State& state,
               const BvhSchedule& tool_schedule,
               bool batched) {
   Trees trees = build_trees(scene, liver_schedule, tool_schedule);
-  const Eigen::Matrix3Xd tool = lowered(scene, placement.depth);
+  const Eigen::Matrix3Xd& tool = placement.pose.tool;
   CollideBuffers buffers;
   std::vector<TrianglePair> pairs;
   QueryStats stats;
   FrameTotals totals;
   std::size_t frame = 0;
   for (auto _ : state) {
-    const Eigen::Matrix3Xd& liver = scene.liver_positions[frame++ % 2];
+    const Eigen::Matrix3Xd& liver = placement.pose.liver[frame++ % 2];
     const double start = thread_cpu_us();
     trees.liver.refit(liver);
     trees.tool.refit(tool);
@@ -272,7 +345,7 @@ void run_ours(benchmark::State& state,
     collect_candidates(trees.liver, liver, trees.tool, tool, buffers, stats);
     const double broad = thread_cpu_us();
     if (batched) {
-      narrow_phase_batched(trees.liver, liver, trees.tool, tool, buffers, pairs);
+      narrow_phase(trees.liver, liver, trees.tool, tool, buffers, pairs, TriTriMethod::kBatched);
     } else {
       narrow_phase(trees.liver, liver, trees.tool, tool, buffers.candidates, pairs,
                    tri_tri_projection);
@@ -291,11 +364,11 @@ void run_ours(benchmark::State& state,
 }
 
 void run_fcl(benchmark::State& state, const Scene& scene, const Placement& placement) {
-  const Eigen::Matrix3Xd tool = lowered(scene, placement.depth);
-  auto liver_model = fcl_model(scene.liver_positions[0], scene.liver_triangles);
+  const Eigen::Matrix3Xd& tool = placement.pose.tool;
+  auto liver_model = fcl_model(placement.pose.liver[0], scene.liver_triangles);
   auto tool_model = fcl_model(tool, scene.tool_triangles);
-  const std::array<std::vector<fcl::Vector3d>, 2> liver_states = {to_fcl(scene.liver_positions[0]),
-                                                                  to_fcl(scene.liver_positions[1])};
+  const std::array<std::vector<fcl::Vector3d>, 2> liver_states = {to_fcl(placement.pose.liver[0]),
+                                                                  to_fcl(placement.pose.liver[1])};
   const std::vector<fcl::Vector3d> tool_state = to_fcl(tool);
   fcl::CollisionObjectd liver_object(liver_model, fcl::Transform3d::Identity());
   fcl::CollisionObjectd tool_object(tool_model, fcl::Transform3d::Identity());
@@ -324,6 +397,79 @@ void run_fcl(benchmark::State& state, const Scene& scene, const Placement& place
   set_frame_counters(state, totals);
 }
 
+// The trees of table 4.2 (hybrid_top: sphere+AABB from the root, no sphere-only level, an
+// investigated variant; hybrid_batched: the thesis's hybrid with the structure-of-arrays narrow
+// phase).
+struct TreeKind {
+  const char* name;
+  BvhSchedule liver, tool;
+  bool batched;
+};
+
+const std::vector<TreeKind>& tree_kinds() {
+  static const std::vector<TreeKind> kinds = {
+      {"hybrid", BvhSchedule::liver(), BvhSchedule::instrument(), false},
+      {"sphere", BvhSchedule::all_sphere(11), BvhSchedule::all_sphere(9), false},
+      {"aabb", BvhSchedule::all_aabb(11), BvhSchedule::all_aabb(9), false},
+      {"hybrid_top", BvhSchedule::layered(0, 6, 5, 10), BvhSchedule::layered(0, 4, 5, 10), false},
+      {"hybrid_batched", BvhSchedule::liver(), BvhSchedule::instrument(), true}};
+  return kinds;
+}
+
+// The goal "hybrid at least as fast as the better of sphere and AABB" compares differences of a
+// few percent on a machine shared with other jobs, so the three trees are timed interleaved:
+// one iteration runs kCompareBatch frames of each tree, in an order that cycles through all six
+// permutations (each tree runs first, second and third, after each of the others, equally often:
+// the tree that ran before leaves the caches in its own state), and each tree's CPU time is summed
+// over its batches. Load changes then hit all three alike, and the repetitions' medians of the
+// per-tree times and of their ratio are compared.
+constexpr int kCompareBatch = 16;
+
+void run_compare(benchmark::State& state, const Scene& scene, const Placement& placement) {
+  const std::array<const TreeKind*, 3> kinds = {&tree_kinds()[0], &tree_kinds()[1],
+                                                &tree_kinds()[2]};
+  std::vector<Trees> trees;
+  for (const TreeKind* kind : kinds) {
+    trees.push_back(build_trees(scene, kind->liver, kind->tool));
+  }
+  const Eigen::Matrix3Xd& tool = placement.pose.tool;
+  CollideBuffers buffers;
+  std::vector<TrianglePair> pairs;
+  std::array<double, 3> total_us{};
+  std::array<std::size_t, 3> found{};
+  constexpr std::array<std::array<std::size_t, 3>, 6> kOrders = {
+      {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
+  std::size_t iteration = 0;
+  for (auto _ : state) {
+    for (const std::size_t t : kOrders[iteration % kOrders.size()]) {
+      const double start = thread_cpu_us();
+      for (int f = 0; f < kCompareBatch; ++f) {
+        const Eigen::Matrix3Xd& liver = placement.pose.liver[static_cast<std::size_t>(f % 2)];
+        trees[t].liver.refit(liver);
+        trees[t].tool.refit(tool);
+        QueryStats stats;
+        collect_candidates(trees[t].liver, liver, trees[t].tool, tool, buffers, stats);
+        narrow_phase(trees[t].liver, liver, trees[t].tool, tool, buffers.candidates, pairs,
+                     tri_tri_projection);
+        benchmark::DoNotOptimize(pairs.data());
+      }
+      total_us[t] += thread_cpu_us() - start;
+      found[t] = pairs.size();
+    }
+    ++iteration;
+  }
+  if (found[0] != found[1] || found[0] != found[2]) {
+    state.SkipWithError("the trees found different pair counts");
+    return;
+  }
+  const double frames = static_cast<double>(state.iterations()) * kCompareBatch;
+  for (std::size_t t = 0; t < kinds.size(); ++t) {
+    state.counters[std::string(kinds[t]->name) + "_us"] = total_us[t] / frames;
+  }
+  state.counters["hybrid_over_best"] = total_us[0] / std::min(total_us[1], total_us[2]);
+  state.counters["pairs"] = static_cast<double>(found[0]);
+}
+
 void register_benchmarks() {
   const MeshData liver = read_mesh(scenes::shipped_data_file("liver.msh"));
   const MeshData tool = read_mesh(scenes::shipped_data_file("instrument_probe.obj"));
@@ -332,49 +478,47 @@ void register_benchmarks() {
   static std::vector<std::vector<Placement>> placements;
   scenes.push_back(make_scene("tet_faces", liver, unique_tet_faces(liver.tetrahedra), tool));
   scenes.push_back(make_scene("surface", liver, boundary_triangles(liver.tetrahedra), tool));
+  scenes.push_back(scenes.back());
+  scenes.back().name = "surface_conforming";
+  scenes.back().conforming = true;
   for (const Scene& scene : scenes) {
     placements.push_back(find_placements(scene));
   }
-  // hybrid_top: sphere+AABB from the root (no sphere-only level), an investigated variant;
-  // hybrid_batched: the thesis's hybrid with the structure-of-arrays narrow phase.
-  const struct {
-    const char* name;
-    BvhSchedule liver, tool;
-    bool batched;
-  } trees[] = {
-      {"hybrid", BvhSchedule::liver(), BvhSchedule::instrument(), false},
-      {"sphere", BvhSchedule::all_sphere(11), BvhSchedule::all_sphere(9), false},
-      {"aabb", BvhSchedule::all_aabb(11), BvhSchedule::all_aabb(9), false},
-      {"hybrid_top", BvhSchedule::layered(0, 6, 5, 10), BvhSchedule::layered(0, 4, 5, 10), false},
-      {"hybrid_batched", BvhSchedule::liver(), BvhSchedule::instrument(), true}};
   for (std::size_t s = 0; s < scenes.size(); ++s) {
     const Scene& scene = scenes[s];
     std::fprintf(stderr, "%s: %d liver triangles, %d instrument triangles\n", scene.name.c_str(),
                  static_cast<int>(scene.liver_triangles.cols()),
                  static_cast<int>(scene.tool_triangles.cols()));
     for (const Placement& placement : placements[s]) {
-      std::fprintf(stderr, "  target %4d pairs: depth %.4f mm, %d pairs\n", placement.target,
-                   placement.depth * 1e3, placement.pairs);
-      const std::string prefix =
-          "BM_Frame/" + scene.name + "/target:" + std::to_string(placement.target) + "/";
-      for (const auto& tree : trees) {
-        benchmark::RegisterBenchmark(
-            (prefix + tree.name).c_str(),
-            [&scene, &placement, liver_schedule = tree.liver, tool_schedule = tree.tool,
-             batched = tree.batched](benchmark::State& state) {
-              run_ours(state, scene, placement, liver_schedule, tool_schedule, batched);
-            })
+      std::fprintf(stderr, "  target %4d pairs: %s %.4f%s, %d pairs\n", placement.target,
+                   scene.conforming ? "band" : "depth",
+                   scene.conforming ? placement.parameter : placement.parameter * 1e3,
+                   scene.conforming ? " probe radii" : " mm", placement.pairs);
+      const std::string suffix = scene.name + "/target:" + std::to_string(placement.target);
+      for (const TreeKind& tree : tree_kinds()) {
+        benchmark::RegisterBenchmark(("BM_Frame/" + suffix + "/" + tree.name).c_str(),
+                                     [&scene, &placement, &tree](benchmark::State& state) {
+                                       run_ours(state, scene, placement, tree.liver, tree.tool,
+                                                tree.batched);
+                                     })
             ->Unit(benchmark::kMicrosecond)
             ->MinTime(0.2)
             ->Repetitions(5)
             ->ReportAggregatesOnly(true);
       }
       benchmark::RegisterBenchmark(
-          (prefix + "fcl_aabb").c_str(),
+          ("BM_Frame/" + suffix + "/fcl_aabb").c_str(),
           [&scene, &placement](benchmark::State& state) { run_fcl(state, scene, placement); })
           ->Unit(benchmark::kMicrosecond)
           ->MinTime(0.2)
           ->Repetitions(5)
+          ->ReportAggregatesOnly(true);
+      benchmark::RegisterBenchmark(
+          ("BM_Compare/" + suffix).c_str(),
+          [&scene, &placement](benchmark::State& state) { run_compare(state, scene, placement); })
+          ->Unit(benchmark::kMicrosecond)
+          ->MinTime(0.3)
+          ->Repetitions(11)
           ->ReportAggregatesOnly(true);
     }
   }

@@ -15,7 +15,9 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softbench::collision {
@@ -106,35 +108,30 @@ void BM_TriTriBatch(benchmark::State& state, int set) {
   state.counters["exact_fallbacks"] = static_cast<double>(fallbacks);
 }
 
+/// One row group of table 4.1: the five pair counts (thousands), medians of 5 repetitions.
+void table_4_1(const std::string& name, std::function<void(benchmark::State&)> run) {
+  benchmark::RegisterBenchmark(("BM_TriTri/" + name).c_str(), std::move(run))
+      ->Arg(100)
+      ->Arg(500)
+      ->Arg(1000)
+      ->Arg(1500)
+      ->Arg(2000)
+      ->Iterations(1)
+      ->Repetitions(5)
+      ->ReportAggregatesOnly(true)
+      ->Unit(benchmark::kMillisecond);
+}
+
 void register_all() {
-  const char* sets[] = {"designed_mix", "random"};
-  const char* methods[] = {"projection", "moller", "guigue_devillers", "cgal_epick"};
+  const std::string sets[] = {"designed_mix", "random"};
+  const std::string methods[] = {"projection", "moller", "guigue_devillers", "cgal_epick"};
   for (int set = 0; set < 2; ++set) {
     for (int method = 0; method < 4; ++method) {
-      benchmark::RegisterBenchmark(
-          (std::string("BM_TriTri/") + methods[method] + "/" + sets[set]).c_str(),
-          [method, set](benchmark::State& state) { BM_TriTriScalar(state, method, set); })
-          ->Arg(100)
-          ->Arg(500)
-          ->Arg(1000)
-          ->Arg(1500)
-          ->Arg(2000)
-          ->Iterations(1)
-          ->Repetitions(5)
-          ->ReportAggregatesOnly(true)
-          ->Unit(benchmark::kMillisecond);
+      table_4_1(methods[method] + "/" + sets[set],
+                [method, set](benchmark::State& state) { BM_TriTriScalar(state, method, set); });
     }
-    benchmark::RegisterBenchmark((std::string("BM_TriTri/batch_soa/") + sets[set]).c_str(),
-                                 [set](benchmark::State& state) { BM_TriTriBatch(state, set); })
-        ->Arg(100)
-        ->Arg(500)
-        ->Arg(1000)
-        ->Arg(1500)
-        ->Arg(2000)
-        ->Iterations(1)
-        ->Repetitions(5)
-        ->ReportAggregatesOnly(true)
-        ->Unit(benchmark::kMillisecond);
+    table_4_1("batch_soa/" + sets[set],
+              [set](benchmark::State& state) { BM_TriTriBatch(state, set); });
   }
 }
 

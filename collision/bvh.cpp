@@ -48,6 +48,7 @@ struct Builder {
   void split(int node_index, int first, int count, int level) {
     nodes[static_cast<std::size_t>(node_index)].level = static_cast<std::uint8_t>(level);
     nodes[static_cast<std::size_t>(node_index)].kind = schedule.kind_at(level);
+    nodes[static_cast<std::size_t>(node_index)].box_tested = schedule.tests_box(level);
     if (count <= schedule.max_leaf_triangles || level + 1 >= schedule.max_levels()) {
       nodes[static_cast<std::size_t>(node_index)].first = first;
       nodes[static_cast<std::size_t>(node_index)].count = count;
@@ -130,6 +131,16 @@ Bvh::Bvh(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xi& triangles, B
   refit(positions);
 }
 
+namespace {
+
+// The box's circumsphere: the sphere of a node whose box is tested too (see bvh.h).
+Sphere circumsphere(const Aabb& box) {
+  const Eigen::Vector3d center = box.center();
+  return {center, padded_radius(0.5 * std::sqrt(box.extent().squaredNorm()), center)};
+}
+
+}  // namespace
+
 void Bvh::refit(const Eigen::Matrix3Xd& positions) {
   if (positions.cols() != num_vertices_) {
     throw InputError("BVH refit: expected " + std::to_string(num_vertices_)
@@ -149,37 +160,39 @@ void Bvh::refit(const Eigen::Matrix3Xd& positions) {
       }
       node->box.min = Eigen::Vector3d(lo[0], lo[1], lo[2]);
       node->box.max = Eigen::Vector3d(hi[0], hi[1], hi[2]);
-      if (node->has_sphere()) {
-        const Eigen::Vector3d center = node->box.center();
-        double max_squared = 0.0;
-        for (const int* v = vertex; v != end; ++v) {
-          max_squared = std::max(max_squared, (positions.col(*v) - center).squaredNorm());
-        }
-        node->sphere.center = center;
-        node->sphere.radius = padded_radius(std::sqrt(max_squared), center);
-      }
+    } else {
+      const BvhNode& left = nodes_[static_cast<std::size_t>(node->first)];
+      const BvhNode& right = nodes_[static_cast<std::size_t>(node->first) + 1];
+      node->box.min = left.box.min.cwiseMin(right.box.min);
+      node->box.max = left.box.max.cwiseMax(right.box.max);
+    }
+    if (!node->has_sphere()) {
       continue;
     }
-    const BvhNode& left = nodes_[static_cast<std::size_t>(node->first)];
-    const BvhNode& right = nodes_[static_cast<std::size_t>(node->first) + 1];
-    node->box.min = left.box.min.cwiseMin(right.box.min);
-    node->box.max = left.box.max.cwiseMax(right.box.max);
-    if (node->has_sphere()) {
-      const Eigen::Vector3d center = node->box.center();
-      // Squared reaches, so that a child without a sphere costs no square root.
-      double radius_squared = 0.0;
-      for (const BvhNode* child : {&left, &right}) {
-        double reach_squared = farthest_squared_distance(child->box, center);
-        if (child->has_sphere()) {
-          const double reach = (child->sphere.center - center).norm() + child->sphere.radius;
+    if (node->has_box()) {
+      node->sphere = circumsphere(node->box);
+      continue;
+    }
+    const Eigen::Vector3d center = node->box.center();
+    // Squared reaches, so that a bound without a sphere costs no square root.
+    double radius_squared = 0.0;
+    if (node->is_leaf()) {
+      for (const int v : leaf_vertices(*node)) {
+        radius_squared = std::max(radius_squared, (positions.col(v) - center).squaredNorm());
+      }
+    } else {
+      for (const int child_index : {node->first, node->first + 1}) {
+        const BvhNode& child = nodes_[static_cast<std::size_t>(child_index)];
+        double reach_squared = farthest_squared_distance(child.box, center);
+        if (child.has_sphere()) {
+          const double reach = (child.sphere.center - center).norm() + child.sphere.radius;
           reach_squared = std::min(reach_squared, reach * reach);
         }
         radius_squared = std::max(radius_squared, reach_squared);
       }
-      const double radius = std::sqrt(radius_squared);
-      node->sphere.center = center;
-      node->sphere.radius = padded_radius(radius, center);
     }
+    node->sphere.center = center;
+    node->sphere.radius = padded_radius(std::sqrt(radius_squared), center);
   }
 }
 

@@ -18,13 +18,18 @@
 // leaf tests just cost more.
 //
 // Volumes and refit: every node keeps its AABB (min/max over its vertices, exact). Nodes whose
-// kind has a sphere also keep a sphere centred at the box centre c, whose radius is
-//   leaf:     max |v - c| over the leaf's vertices (the smallest radius for that centre);
-//   internal: max over children of min(|c - c_child| + r_child, distance from c to the child's
-//             farthest box corner) (the second term alone is at most the half-diagonal),
-// each bound valid for the whole subtree, so containment holds by construction. Bound quality:
-// never worse than the box's circumsphere (tested); looser than the radius a pass over all the
-// subtree's vertices would give, at O(1) per internal node instead of O(subtree). All radii are
+// kind has a sphere also keep a sphere centred at the box centre c. Its radius depends on what
+// the sphere is for:
+//  - the node's box is tested too (a hybrid node, or a sphere level with the schedule's
+//    box_tie_breaker): the sphere is only the early-out in front of the box, so it is the box's
+//    circumsphere, radius = half the box diagonal: O(1) per node, one square root, no pass over
+//    vertices or children; it holds the box and so everything in it;
+//  - the sphere is the node's only test (the all-sphere tree): the tightest radius for that
+//    centre at leaves (max |v - c| over the leaf's vertices), and at internal nodes the max over
+//    children of min(|c - c_child| + r_child, distance from c to the child's farthest box
+//    corner), each bound valid for the whole subtree, so containment holds by construction,
+//    at O(1) per internal node instead of O(subtree).
+// Either way the radius is never larger than the box's circumsphere (tested), and all radii are
 // padded (collision/sphere.h) so that round-off never makes a sphere miss a vertex.
 // Refit visits nodes in reverse creation order (children are created after their parent) and
 // reads each vertex of a leaf once (leaves keep their unique vertex list).
@@ -51,10 +56,12 @@ struct BvhNode {
   int vertex_count = 0;  ///< leaf: number of unique vertices
   std::uint8_t level = 0;
   VolumeKind kind = VolumeKind::kAabb;
+  bool box_tested = true;  ///< BvhSchedule::tests_box(level)
 
   bool is_leaf() const { return count > 0; }
   bool has_sphere() const { return kind != VolumeKind::kAabb; }
-  bool has_box() const { return kind != VolumeKind::kSphere; }
+  /// Whether queries test the box (it is kept in every node; see BvhSchedule::box_tie_breaker).
+  bool has_box() const { return box_tested; }
 };
 
 /// Shape of a built tree, for tests and reports.

@@ -128,6 +128,8 @@ void collect_candidates(const Bvh& tree_a,
   }
 }
 
+namespace {
+
 void narrow_phase_batched(const Bvh& tree_a,
                           const Eigen::Matrix3Xd& positions_a,
                           const Bvh& tree_b,
@@ -162,34 +164,29 @@ void narrow_phase_batched(const Bvh& tree_a,
   }
 }
 
-void collide(const Bvh& tree_a,
-             const Eigen::Matrix3Xd& positions_a,
-             const Bvh& tree_b,
-             const Eigen::Matrix3Xd& positions_b,
-             CollideBuffers& buffers,
-             std::vector<TrianglePair>& pairs,
-             QueryStats* stats,
-             TriTriMethod method) {
+}  // namespace
+
+void narrow_phase(const Bvh& tree_a,
+                  const Eigen::Matrix3Xd& positions_a,
+                  const Bvh& tree_b,
+                  const Eigen::Matrix3Xd& positions_b,
+                  CollideBuffers& buffers,
+                  std::vector<TrianglePair>& pairs,
+                  TriTriMethod method) {
+  const std::vector<CandidatePair>& candidates = buffers.candidates;
   switch (method) {
     case TriTriMethod::kProjection:
-      collide(tree_a, positions_a, tree_b, positions_b, buffers, pairs, stats, tri_tri_projection);
+      narrow_phase(tree_a, positions_a, tree_b, positions_b, candidates, pairs, tri_tri_projection);
       return;
     case TriTriMethod::kMoller:
-      collide(tree_a, positions_a, tree_b, positions_b, buffers, pairs, stats, tri_tri_moller);
+      narrow_phase(tree_a, positions_a, tree_b, positions_b, candidates, pairs, tri_tri_moller);
       return;
     case TriTriMethod::kGuigue:
-      collide(tree_a, positions_a, tree_b, positions_b, buffers, pairs, stats, tri_tri_guigue);
+      narrow_phase(tree_a, positions_a, tree_b, positions_b, candidates, pairs, tri_tri_guigue);
       return;
     case TriTriMethod::kBatched:
-      break;
-  }
-  QueryStats counts;
-  collect_candidates(tree_a, positions_a, tree_b, positions_b, buffers, counts);
-  narrow_phase_batched(tree_a, positions_a, tree_b, positions_b, buffers, pairs);
-  counts.tri_tests = static_cast<std::int64_t>(buffers.candidates.size());
-  counts.pairs_found = static_cast<std::int64_t>(pairs.size());
-  if (stats != nullptr) {
-    *stats = counts;
+      narrow_phase_batched(tree_a, positions_a, tree_b, positions_b, buffers, pairs);
+      return;
   }
 }
 

@@ -5,8 +5,10 @@
 //      fixed-size stack (depth is bounded by the schedules, so no allocation), descending the
 //      node with the larger box diagonal (on table 4.2's scenes it visits fewer node pairs than
 //      the extent sum or the longest side); node pairs are tested with the volumes their kinds
-//      share (sphere first, then box; a sphere-only node against a box node uses the exact
-//      sphere-box test). In a leaf pair, each triangle's box is tested against the other leaf's box
+//      share (sphere first as the early-out, then box; a sphere level of a schedule with
+//      box_tie_breaker counts as sharing the box, so the hybrid tree never visits more node pairs
+//      than the AABB tree; a sphere-only node against a box node uses the exact sphere-box test).
+//      In a leaf pair, each triangle's box is tested against the other leaf's box
 //      and then against the other triangles' boxes (same for every schedule: it is a leaf-level
 //      filter, not a tree level). Survivors go to a caller-owned candidate buffer.
 //   2. narrow phase: the exact triangle-triangle test on each candidate.
@@ -23,6 +25,7 @@
 
 #include <Eigen/Core>
 
+#include <type_traits>
 #include <vector>
 
 namespace softbench::collision {
@@ -50,9 +53,9 @@ struct CollideBuffers {
   std::vector<std::uint8_t> batch_hit;
 };
 
-/// The narrow-phase tests collide() can run without a template argument. kBatched runs the
-/// structure-of-arrays filter (collision/tri_tri_batch.h, same answers as the projection test)
-/// over all candidates, then the projection test on its hits for their segments.
+/// The narrow-phase tests by name. kBatched runs the structure-of-arrays filter
+/// (collision/tri_tri_batch.h, same answers as the projection test) over all candidates, then
+/// the projection test on its hits for their segments.
 enum class TriTriMethod : std::uint8_t { kProjection, kMoller, kGuigue, kBatched };
 
 /// Broad phase. `positions_a` / `positions_b` (3 x #V) must be those the trees were last
@@ -93,29 +96,21 @@ void narrow_phase(const Bvh& tree_a,
   }
 }
 
-/// Broad phase, then the narrow phase with `test`. `pairs` is cleared, then holds every
+/// Narrow phase by name on buffers.candidates (kBatched: the structure-of-arrays filter, then the
+/// projection test on its hits for their segments); `pairs` as for the template above.
+void narrow_phase(const Bvh& tree_a,
+                  const Eigen::Matrix3Xd& positions_a,
+                  const Bvh& tree_b,
+                  const Eigen::Matrix3Xd& positions_b,
+                  CollideBuffers& buffers,
+                  std::vector<TrianglePair>& pairs,
+                  TriTriMethod method);
+
+/// Broad phase, then the narrow phase with `test`: a TriTriMethod (default: the thesis's
+/// projection test) or a callable as narrow_phase() takes. `pairs` is cleared, then holds every
 /// intersecting pair in traversal order. `stats` (optional) is overwritten with this query's
 /// counts.
-template <class TriTriTest>
-void collide(const Bvh& tree_a,
-             const Eigen::Matrix3Xd& positions_a,
-             const Bvh& tree_b,
-             const Eigen::Matrix3Xd& positions_b,
-             CollideBuffers& buffers,
-             std::vector<TrianglePair>& pairs,
-             QueryStats* stats,
-             TriTriTest&& test) {
-  QueryStats counts;
-  collect_candidates(tree_a, positions_a, tree_b, positions_b, buffers, counts);
-  narrow_phase(tree_a, positions_a, tree_b, positions_b, buffers.candidates, pairs, test);
-  counts.tri_tests = static_cast<std::int64_t>(buffers.candidates.size());
-  counts.pairs_found = static_cast<std::int64_t>(pairs.size());
-  if (stats != nullptr) {
-    *stats = counts;
-  }
-}
-
-/// collide() with a named test (default: the thesis's projection test).
+template <class TriTriTest = TriTriMethod>
 void collide(const Bvh& tree_a,
              const Eigen::Matrix3Xd& positions_a,
              const Bvh& tree_b,
@@ -123,14 +118,19 @@ void collide(const Bvh& tree_a,
              CollideBuffers& buffers,
              std::vector<TrianglePair>& pairs,
              QueryStats* stats = nullptr,
-             TriTriMethod method = TriTriMethod::kProjection);
-
-/// The kBatched narrow phase on buffers.candidates (see TriTriMethod).
-void narrow_phase_batched(const Bvh& tree_a,
-                          const Eigen::Matrix3Xd& positions_a,
-                          const Bvh& tree_b,
-                          const Eigen::Matrix3Xd& positions_b,
-                          CollideBuffers& buffers,
-                          std::vector<TrianglePair>& pairs);
+             TriTriTest&& test = TriTriMethod::kProjection) {
+  QueryStats counts;
+  collect_candidates(tree_a, positions_a, tree_b, positions_b, buffers, counts);
+  if constexpr (std::is_same_v<std::remove_cvref_t<TriTriTest>, TriTriMethod>) {
+    narrow_phase(tree_a, positions_a, tree_b, positions_b, buffers, pairs, test);
+  } else {
+    narrow_phase(tree_a, positions_a, tree_b, positions_b, buffers.candidates, pairs, test);
+  }
+  counts.tri_tests = static_cast<std::int64_t>(buffers.candidates.size());
+  counts.pairs_found = static_cast<std::int64_t>(pairs.size());
+  if (stats != nullptr) {
+    *stats = counts;
+  }
+}
 
 }  // namespace softbench::collision

@@ -6,12 +6,17 @@
 // Each predicate first evaluates its determinant in double and compares it with Shewchuk's
 // stage-A error bound (J. R. Shewchuk, "Adaptive precision floating-point arithmetic and fast
 // robust geometric predicates", DCG 18, 1997, section 4): when |det| exceeds the bound its sign
-// is the exact sign. Otherwise the determinant is recomputed exactly with GMP integers (the
-// inputs are doubles, so scaling them by a common power of two makes them integers), which is
-// slow (about a microsecond) but only taken within a few ulps of a degeneracy.
+// is the exact sign. Otherwise the determinant is recomputed exactly with floating-point
+// expansions (collision/expansion_arithmetic.h): the input is scaled by a power of two so that
+// no product underflows or overflows, coordinate differences become two-component expansions and
+// the determinant a short expansion whose largest component has the exact sign. That costs tens
+// of nanoseconds when the differences are exact (typical of designed and snapped data) and a few
+// hundred otherwise. Inputs whose exponents span more than about 600 binary orders within one
+// call (e.g. 1e-200 next to 1) take a slower wide-integer path instead, so the answer is exact
+// for every finite input.
 //
 // The bound assumes no underflow; an absolute floor (kUnderflowFloor) sends determinants too
-// small to trust to the exact path as well, so the answer is exact for every finite input.
+// small to trust to the exact path as well.
 
 #include <Eigen/Core>
 
@@ -30,12 +35,15 @@ inline constexpr double kOrient3dErrorBound = (7.0 + 56.0 * kUnitRoundoff) * kUn
 /// Below this a filtered determinant may have lost bits to underflow: decide it exactly.
 inline constexpr double kUnderflowFloor = 1e-280;
 
+/// The signature of orient3d and its exact variants.
+using Orient3dFunction = int(const Eigen::Vector3d& a,
+                             const Eigen::Vector3d& b,
+                             const Eigen::Vector3d& c,
+                             const Eigen::Vector3d& d);
+
 /// Exact sign of det[b - a, c - a, d - a] = ((b - a) x (c - a)) . (d - a): +1 when d lies on the
 /// side of the plane (a, b, c) that its normal (b - a) x (c - a) points to, 0 when coplanar.
-int orient3d_exact(const Eigen::Vector3d& a,
-                   const Eigen::Vector3d& b,
-                   const Eigen::Vector3d& c,
-                   const Eigen::Vector3d& d);
+Orient3dFunction orient3d_exact;
 
 /// Exact sign of (bx - ax)(cy - ay) - (by - ay)(cx - ax): +1 for a counter-clockwise a, b, c.
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy);
@@ -58,6 +66,10 @@ inline int filtered_sign(double det, double bound, Exact&& exact) {
 namespace detail {
 void count_orient3d_fallback();
 void count_orient2d_fallback();
+/// The exact paths by name, for tests: expansions with Dekker's product (no FMA), and the wide
+/// integers.
+Orient3dFunction orient3d_exact_without_fma;
+Orient3dFunction orient3d_exact_wide;
 }  // namespace detail
 
 /// Filtered exact orient3d (see orient3d_exact for the sign convention).
@@ -91,11 +103,12 @@ inline int orient2d(double ax, double ay, double bx, double by, double cx, doubl
   });
 }
 
-/// How often the filters above could not decide (process-wide, relaxed counters; for reports).
+/// How often the filters above could not decide, on the calling thread (for reports).
 struct PredicateStats {
   std::uint64_t orient3d_fallbacks = 0;
   std::uint64_t orient2d_fallbacks = 0;
 };
+/// The calling thread's counts, and their reset.
 PredicateStats predicate_stats();
 void reset_predicate_stats();
 

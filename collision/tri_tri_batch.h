@@ -1,16 +1,17 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-// Batched triangle-triangle tests for the leaf-vs-leaf stage of a BVH query: pair i is
-// a[i] against b[i], triangles stored as structure-of-arrays so that fixed blocks of lanes run
-// branch-free (GCC auto-vectorises them; AVX2 is chosen at run time by function multiversioning).
+// Batched triangle-triangle tests for the leaf-vs-leaf stage of a BVH query: pair i is a[i]
+// against b[i], triangles stored as structure-of-arrays so that blocks of lanes run without
+// branches (collision/tri_tri_batch_lanes.h): 8 lanes with AVX-512, 4 with AVX2 or baseline
+// SSE2, chosen at run time.
 //
-// Per lane: the six vertex-plane signs with Shewchuk's orient3d error bound (as the scalar
-// filter), rejection when a triangle is certainly on one side of the other's plane, then
-// Moeller's interval overlap on the intersection line with an error margin. A lane whose signs
-// or interval comparison the margins cannot certify (touching, coplanar, near-parallel,
-// degenerate) is re-tested by the exact scalar tri_tri_projection, so the answers are identical
-// to it on every input.
+// Per lane: the scalar projection test's certified floating-point path (collision/
+// tri_tri_projection.cpp with the bounds of tri_tri_projection_bounds.h): B's vertices against
+// A's plane and case (b), the V and W rejections of L_B, A's vertices against B's plane, and
+// the order of the chord and L_B on the intersection line. A lane whose signs or comparisons the
+// bounds cannot certify (touching, coplanar, degenerate, within rounding of a decision) is
+// re-tested by the exact scalar tri_tri_projection, so the answers equal it on every input.
 
 #include <Eigen/Core>
 

@@ -2,6 +2,7 @@
 #include "collision/tri_tri_projection.h"
 
 #include "collision/exact_predicates.h"
+#include "collision/tri_tri_projection_bounds.h"
 
 #include <Eigen/Geometry>
 
@@ -16,11 +17,6 @@ namespace {
 
 using Vec3 = Eigen::Vector3d;
 using Triangle = std::array<Vec3, 3>;
-
-/// Rounding error of a frame coordinate relative to (conditioning + 1) * extent: the frame's
-/// axes and a dot product cost a few dozen ulps at most; 64 leaves a wide margin.
-constexpr double kFrameError = 64.0 * kUnitRoundoff;
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 /// A triangle's plane with what the filtered orient3d needs, computed once per triangle:
 /// value(x) = normal . (x - a) = det[b - a, c - a, x - a], and the permanent weights.
@@ -386,96 +382,182 @@ TriTriResult degenerate_tri_tri(const Triangle& a,
   return hull_vs_triangle(reduce_degenerate(a), b, plane_b);
 }
 
-}  // namespace
+// ------------------------------------------------------------------------------------------
+// The computation frame, unnormalised. The thesis's frame (4-3) has unit axes n1 = e1 / |e1|,
+// n3 = N / |N|, n2 = n3 x n1; here the axes are x* = e1, z* = N = e1 x e2 and y* = N x e1 (the
+// same directions, lengths |e1|, |N|, |N| |e1|). Every decision below is a sign or a comparison
+// of ratios, which a positive scaling of an axis does not change, so this is the same test
+// without square roots or divisions, and its floating-point error bounds are a priori
+// polynomials in the largest coordinate difference (collision/tri_tri_projection_bounds.h).
 
-TriTriResult tri_tri_projection(const Vec3& p0,
-                                const Vec3& p1,
-                                const Vec3& p2,
-                                const Vec3& q0,
-                                const Vec3& q1,
-                                const Vec3& q2) {
-  const Triangle a = {p0, p1, p2};
+using namespace detail;  // the bounds of collision/tri_tri_projection_bounds.h
+static_assert(kU == kUnitRoundoff && kFloor == kUnderflowFloor);
+
+double max_abs(const Vec3& v) {
+  return v.cwiseAbs().maxCoeff();
+}
+
+/// Triangle A's frame and its own extents on the x* and y* axes: P1 = (0, 0), P2 = (|e1|^2, 0),
+/// P0 = (e1 . e2, y* . e2 = |N|^2).
+struct Frame {
+  Vec3 origin;  // P1
+  Vec3 x_axis;  // e1 = P2 - P1
+  Vec3 y_axis;  // N x e1
+  Vec3 normal;  // N = e1 x e2, e2 = P0 - P1
+  double x_low = 0.0, x_high = 0.0, y_high = 0.0;
+
+  Frame(const Vec3& p0, const Vec3& p1, const Vec3& p2, const Vec3& normal_in)
+      : origin(p1), x_axis(p2 - p1), y_axis(normal_in.cross(p2 - p1)), normal(normal_in) {
+    const Vec3 e2 = p0 - p1;
+    const double x0 = x_axis.dot(e2);
+    x_low = std::min(0.0, x0);
+    x_high = std::max(x_axis.dot(x_axis), x0);
+    y_high = normal.squaredNorm();  // = y* . e2 = (N x e1) . e2
+  }
+};
+
+/// Powers of M for the margins, with the underflow floor (below it nothing is rejected).
+struct Margins {
+  double crossing_x, crossing_y, vertex_x, vertex_y;
+  explicit Margins(double m) {
+    const double m2 = m * m;
+    const double m4 = m2 * m2;
+    crossing_x = kCrossingMarginX * m4 * m + kUnderflowFloor;
+    crossing_y = kCrossingMarginY * m4 * m2 * m + kUnderflowFloor;
+    vertex_x = kVertexMarginX * m2 + kUnderflowFloor;
+    vertex_y = kVertexMarginY * m4 + kUnderflowFloor;
+  }
+};
+
+/// An end of L_B in the frame, homogeneous: (nx / s, ny / s) with s >= 0, and the error bounds
+/// of nx - c s and ny - c s for A's extents c.
+struct FrameEnd {
+  double nx = 0.0, ny = 0.0, s = 1.0, margin_x = 0.0, margin_y = 0.0;
+};
+
+/// The point of edge (a, b) of B on H, by the thesis's ratio t = |z_a| / (|z_a| + |z_b|) taken
+/// from a: (|z_b| x_a + |z_a| x_b) / (|z_a| + |z_b|), kept as numerator and denominator.
+FrameEnd crossing_end(const std::array<double, 3>& xs,
+                      const std::array<double, 3>& ys,
+                      const std::array<double, 3>& zs,
+                      int a,
+                      int b,
+                      const Margins& margins) {
+  const double za = std::abs(zs[a]);
+  const double zb = std::abs(zs[b]);
+  return {zb * xs[a] + za * xs[b], zb * ys[a] + za * ys[b], za + zb, margins.crossing_x,
+          margins.crossing_y};
+}
+
+/// One axis of the frame: L_B's ends (n0 / s0, n1 / s1, numerators with error bounds m0, m1)
+/// both below A's extent [low, high] on it or both above, by more than the rounding.
+bool apart_on_axis(
+    double n0, double s0, double m0, double n1, double s1, double m1, double low, double high) {
+  return ((n0 - low * s0 < -m0) & (n1 - low * s1 < -m1))
+         | ((n0 - high * s0 > m0) & (n1 - high * s1 > m1));
+}
+
+/// Early rejection on V (L_B's y* extent against A_v = [0, y_high]), then on W (x* against
+/// A_w); only with a margin above the rounding, so touching triangles are never rejected.
+bool rejected_on_v_or_w(const Frame& f, const FrameEnd& l, const FrameEnd& r) {
+  return apart_on_axis(l.ny, l.s, l.margin_y, r.ny, r.s, r.margin_y, 0.0, f.y_high)
+         || apart_on_axis(l.nx, l.s, l.margin_x, r.nx, r.s, r.margin_x, f.x_low, f.x_high);
+}
+
+/// Index of the vertex alone on its side when the signs s (all non-zero) are mixed.
+int alone(const std::array<int, 3>& s) {
+  return s[1] == s[2] ? 0 : (s[0] == s[2] ? 1 : 2);
+}
+
+/// Exact signs in floating point: three plane values against one certified bound, as bit
+/// masks (bit i: value i > bound, resp. < -bound; neither: undecided in floating point).
+struct SideMasks {
+  unsigned positive = 0;
+  unsigned negative = 0;
+
+  bool one_side() const { return positive == 7u || negative == 7u; }
+  bool all_decided() const { return (positive | negative) == 7u; }
+  /// With all decided and mixed: the vertex alone on its side, and whether that side is +.
+  int alone() const {
+    constexpr int kAlone[8] = {0, 0, 1, 2, 2, 1, 0, 0};  // by `positive`: 1 -> 0, 3 -> 2, ...
+    return kAlone[positive];
+  }
+  bool alone_positive() const { return positive == 1u || positive == 2u || positive == 4u; }
+};
+
+SideMasks side_masks(const std::array<double, 3>& v, double bound) {
+  return {static_cast<unsigned>(v[0] > bound) | static_cast<unsigned>(v[1] > bound) << 1u
+              | static_cast<unsigned>(v[2] > bound) << 2u,
+          static_cast<unsigned>(v[0] < -bound) | static_cast<unsigned>(v[1] < -bound) << 1u
+              | static_cast<unsigned>(v[2] < -bound) << 2u};
+}
+
+bool one_side(const std::array<int, 3>& s) {
+  return (s[0] > 0 && s[1] > 0 && s[2] > 0) || (s[0] < 0 && s[1] < 0 && s[2] < 0);
+}
+
+/// All cases of figure 4.14 with exact signs of every decision (any input, including touching,
+/// coplanar and degenerate triangles).
+TriTriResult projection_exact(const Triangle& a, const Triangle& b_input) {
   // orient3d(P1, P2, P0, x) = ((P2 - P1) x (P0 - P1)) . (x - P1): the z* axis direction.
-  const Plane plane_a(p1, p2, p0);
-
-  // Step 1: B's vertices against H (the sign of z*), exact.
+  const Plane plane_a(a[1], a[2], a[0]);
   std::array<double, 3> d;
   std::array<int, 3> s;
-  const Triangle b_input = {q0, q1, q2};
   for (int i = 0; i < 3; ++i) {
     s[i] = plane_a.side(b_input[i], d[i]);
   }
-  // Case (b): B strictly on one side of H (checked before anything else: the common early out).
-  if ((s[0] > 0 && s[1] > 0 && s[2] > 0) || (s[0] < 0 && s[1] < 0 && s[2] < 0)) {
-    return {};
+  if (one_side(s)) {
+    return {};  // case (b)
   }
-  const Plane plane_b(q0, q1, q2);
+  const Plane plane_b(b_input[0], b_input[1], b_input[2]);
   const bool a_degenerate = plane_a.degenerate();
   const bool b_degenerate = plane_b.degenerate();
   if (a_degenerate || b_degenerate) {
     return degenerate_tri_tri(a, plane_a, a_degenerate, b_input, plane_b, b_degenerate);
   }
+  const Frame frame(a[0], a[1], a[2], plane_a.normal);
 
-  // Step 2: the computation frame (4-3): n1 along P1P2, n3 along A's normal, n2 = n3 x n1.
-  const Vec3 e1 = p2 - p1;
-  const Vec3 e2 = p0 - p1;
-  const double length = e1.norm();
-  const double normal_norm = plane_a.normal.norm();
-  const Vec3 n1 = e1 / length;
-  const Vec3 n3 = plane_a.normal / normal_norm;
-  const Vec3 n2 = n3.cross(n1);
-  // A in the frame: P1 = (0, 0), P2 = (length, 0), P0 = (x0, h).
-  const double x0 = n1.dot(e2);
-  const double h = n2.dot(e2);
-
-  // Relabelling (coordinate rotation, which keeps B's orientation): Q0 is the special vertex.
-  int zeros = 0;
-  for (const int si : s) {
-    zeros += si == 0 ? 1 : 0;
-  }
+  // Relabelling (a rotation, which keeps B's orientation): Q0 is the special vertex.
+  const int zeros = (s[0] == 0 ? 1 : 0) + (s[1] == 0 ? 1 : 0) + (s[2] == 0 ? 1 : 0);
   int first = 0;
   if (zeros == 1) {
     first = s[0] == 0 ? 0 : (s[1] == 0 ? 1 : 2);  // cases (c), (e): Q0 on H
   } else if (zeros == 2) {
     first = s[0] != 0 ? 1 : (s[1] != 0 ? 2 : 0);  // case (d): Q0, Q1 on H, Q2 off
   } else if (zeros == 0) {
-    first = s[1] == s[2] ? 0 : (s[0] == s[2] ? 1 : 2);  // case (f): Q0 alone on its side
+    first = alone(s);  // case (f): Q0 alone on its side
   }
-  std::array<Vec3, 3> q;
-  std::array<double, 3> z;   // z* coordinates (rounded); their signs are s
+  Triangle q;
+  std::array<double, 3> z;   // z* coordinates (rounded); their exact signs are `sign`
   std::array<double, 3> xs;  // x* coordinates
   std::array<double, 3> ys;  // y* coordinates
   std::array<int, 3> sign;
-  double extent = std::max(length, e2.norm());
+  double m = std::max(max_abs(frame.x_axis), max_abs(a[0] - a[1]));
   for (int i = 0; i < 3; ++i) {
     const int k = (first + i) % 3;
     q[i] = b_input[k];
     sign[i] = s[k];
-    const Vec3 w = q[i] - p1;
-    z[i] = d[k] / normal_norm;
-    xs[i] = n1.dot(w);
-    ys[i] = n2.dot(w);
-    extent = std::max(extent, w.norm());
+    const Vec3 w = q[i] - frame.origin;
+    z[i] = d[k];
+    xs[i] = frame.x_axis.dot(w);
+    ys[i] = frame.y_axis.dot(w);
+    m = std::max(m, max_abs(w));
   }
-  // Error of any frame coordinate: the normal's direction is as well conditioned as A's angle
-  // at P1, |e1| |e2| / |N| = 1 / sin(angle).
-  const double conditioning = length * e2.norm() / normal_norm;
-  const double frame_error = kFrameError * (conditioning + 1.0) * extent;
-  const double av_low = -frame_error;  // A_v = [0, h] on the y* axis, widened by the error
-  const double av_high = h + frame_error;
-  const double aw_low = std::min(0.0, x0) - frame_error;  // A_w on the x* axis
-  const double aw_high = std::max(length, x0) + frame_error;
+  const Margins margins(m);
+  auto vertex_end = [&](int i) {
+    return FrameEnd{xs[i], ys[i], 1.0, margins.vertex_x, margins.vertex_y};
+  };
 
   // Case (a): B in H. V and W overlap of the projections, then coplanar triangles in H.
   if (zeros == 3) {
-    const double y_low = std::min({ys[0], ys[1], ys[2]}) - frame_error;
-    const double y_high = std::max({ys[0], ys[1], ys[2]}) + frame_error;
-    if (y_high < av_low || y_low > av_high) {
-      return {};
-    }
-    const double x_low = std::min({xs[0], xs[1], xs[2]}) - frame_error;
-    const double x_high = std::max({xs[0], xs[1], xs[2]}) + frame_error;
-    if (x_high < aw_low || x_low > aw_high) {
+    auto lowest = [](const std::array<double, 3>& v) { return std::min({v[0], v[1], v[2]}); };
+    auto highest = [](const std::array<double, 3>& v) { return std::max({v[0], v[1], v[2]}); };
+    const FrameEnd low{lowest(xs), lowest(ys), 1.0, margins.vertex_x, margins.vertex_y};
+    const FrameEnd high{highest(xs), highest(ys), 1.0, margins.vertex_x, margins.vertex_y};
+    const bool v_apart = high.ny < -high.margin_y || low.ny - frame.y_high > low.margin_y;
+    const bool w_apart =
+        high.nx - frame.x_low < -high.margin_x || low.nx - frame.x_high > low.margin_x;
+    if (v_apart || w_apart) {
       return {};
     }
     const auto [in_plane, orientation_a] = dominant_projection(plane_a);
@@ -486,7 +568,7 @@ TriTriResult tri_tri_projection(const Vec3& p0,
 
   // Case (c): B touches H at Q0 only; Q_L = Q_R = Q0.
   if (zeros == 1 && sign[1] == sign[2]) {
-    if (ys[0] < av_low || ys[0] > av_high || xs[0] < aw_low || xs[0] > aw_high) {
+    if (rejected_on_v_or_w(frame, vertex_end(0), vertex_end(0))) {
       return {};
     }
     const auto [in_plane, orientation_a] = dominant_projection(plane_a);
@@ -497,7 +579,7 @@ TriTriResult tri_tri_projection(const Vec3& p0,
   }
 
   // Cases (d), (e), (f): L_B's ends as points of B's edges, oriented from H's negative side to
-  // its positive side (for the exact ordering), with their frame coordinates and error margins.
+  // its positive side (for the exact ordering).
   std::array<EdgePoint, 2> lb;
   if (zeros == 2) {  // (d): Q_L = Q0, Q_R = Q1, both reached along the edges from Q2
     lb[0] = sign[2] > 0 ? EdgePoint{0, 2} : EdgePoint{2, 0};
@@ -509,45 +591,17 @@ TriTriResult tri_tri_projection(const Vec3& p0,
     lb[0] = sign[0] > 0 ? EdgePoint{1, 0} : EdgePoint{0, 1};
     lb[1] = sign[0] > 0 ? EdgePoint{2, 0} : EdgePoint{0, 2};
   }
-  std::array<double, 2> lx;
-  std::array<double, 2> ly;
-  std::array<double, 2> margin;
-  std::array<double, 2> ratio;  // t of (4-10): the point is q[b] + t (q[a] - q[b])
+  std::array<FrameEnd, 2> ends;
   for (int j = 0; j < 2; ++j) {
     const int from = lb[j].a;
     const int to = lb[j].b;
     if (sign[from] == 0 || sign[to] == 0) {
-      ratio[j] = sign[to] == 0 ? 0.0 : 1.0;
-      const int vertex = sign[to] == 0 ? to : from;
-      lx[j] = xs[vertex];
-      ly[j] = ys[vertex];
-      margin[j] = frame_error;
-      continue;
+      ends[j] = vertex_end(sign[to] == 0 ? to : from);
+    } else {
+      ends[j] = crossing_end(xs, ys, z, from, to, margins);
     }
-    const double sum = std::abs(z[from]) + std::abs(z[to]);
-    if (!(sum > 0.0)) {
-      ratio[j] = 0.5;
-      lx[j] = 0.5 * (xs[from] + xs[to]);
-      ly[j] = 0.5 * (ys[from] + ys[to]);
-      margin[j] = kInfinity;
-      continue;
-    }
-    const double t = std::abs(z[to]) / sum;
-    ratio[j] = t;
-    lx[j] = xs[to] + t * (xs[from] - xs[to]);
-    ly[j] = ys[to] + t * (ys[from] - ys[to]);
-    // t's error is at most 2 frame_error / sum; it moves the point along the edge.
-    const double spread = std::max(std::abs(xs[from] - xs[to]), std::abs(ys[from] - ys[to]));
-    margin[j] = 3.0 * frame_error + 2.0 * frame_error * spread / sum;
   }
-  // Early rejection on V: L_B's projection on the y* axis against A_v.
-  if ((ly[0] + margin[0] < av_low && ly[1] + margin[1] < av_low)
-      || (ly[0] - margin[0] > av_high && ly[1] - margin[1] > av_high)) {
-    return {};
-  }
-  // Then on W: the x* axis against A_w.
-  if ((lx[0] + margin[0] < aw_low && lx[1] + margin[1] < aw_low)
-      || (lx[0] - margin[0] > aw_high && lx[1] - margin[1] > aw_high)) {
+  if (rejected_on_v_or_w(frame, ends[0], ends[1])) {
     return {};
   }
 
@@ -578,9 +632,9 @@ TriTriResult tri_tri_projection(const Vec3& p0,
         crossing_point(a[c.a], a[c.b], e[c.a], e[c.b], e_value[c.a], e_value[c.b]);
   }
   for (int j = 0; j < 2; ++j) {
-    const Vec3& qa = q[lb[j].a];
-    const Vec3& qb = q[lb[j].b];
-    points[static_cast<std::size_t>(2 + j)] = qb + ratio[j] * (qa - qb);
+    const EdgePoint& c = lb[j];
+    points[static_cast<std::size_t>(2 + j)] =
+        crossing_point(q[c.a], q[c.b], sign[c.a], sign[c.b], z[c.a], z[c.b]);
   }
   const Vec3 direction = plane_a.normal.cross(plane_b.normal);
   std::array<double, 4> param;
@@ -594,6 +648,157 @@ TriTriResult tri_tri_projection(const Vec3& p0,
   const std::size_t lb_high = 5 - lb_low;
   const std::size_t high = param[chord_high] <= param[lb_high] ? chord_high : lb_high;
   return segment_result(points[low], points[high]);
+}
+
+}  // namespace
+
+TriTriResult tri_tri_projection(const Vec3& p0,
+                                const Vec3& p1,
+                                const Vec3& p2,
+                                const Vec3& q0,
+                                const Vec3& q1,
+                                const Vec3& q2) {
+  // Step 1: B's vertices against H, z* = N . (Q_i - P1) with N = (P2 - P1) x (P0 - P1), signs
+  // certified by a bound computed once for the three (semi-static filter).
+  const Vec3 e1 = p2 - p1;
+  const Vec3 e2 = p0 - p1;
+  const Vec3 normal = e1.cross(e2);
+  const std::array<Vec3, 3> w = {q0 - p1, q1 - p1, q2 - p1};
+  const std::array<double, 3> z = {normal.dot(w[0]), normal.dot(w[1]), normal.dot(w[2])};
+  const double m_a = std::max(max_abs(e1), max_abs(e2));
+  const double m_w = std::max({max_abs(w[0]), max_abs(w[1]), max_abs(w[2])});
+  if (!(std::max(m_a, m_w) < kMaxMagnitude)) {
+    return projection_exact({p0, p1, p2}, {q0, q1, q2});  // the bounds could overflow
+  }
+  const SideMasks sz = side_masks(z, kSideBound * m_a * m_a * m_w + kUnderflowFloor);
+  // Case (b): B strictly on one side of H (the common early out).
+  if (sz.one_side()) {
+    return {};
+  }
+  if (!sz.all_decided()) {
+    // A vertex of B on H or within rounding of it: exact signs, all cases of figure 4.14.
+    return projection_exact({p0, p1, p2}, {q0, q1, q2});
+  }
+
+  // Case (f) with certified signs (A and B are then proper triangles): Q0 alone on its side.
+  const int first = sz.alone();
+  const std::array<int, 3> k = {first, (first + 1) % 3, (first + 2) % 3};
+  // L_B's ends on Q0Q1 and Q0Q2 by the ratio of the z* values, kept as numerator / denominator.
+  const double z0 = std::abs(z[k[0]]);
+  const double z1 = std::abs(z[k[1]]);
+  const double z2 = std::abs(z[k[2]]);
+  const double s01 = z0 + z1;
+  const double s02 = z0 + z2;
+  const double m = std::max(m_a, m_w);
+  const double m2 = m * m;
+  const double m5 = m2 * m2 * m;
+  // V: y* = N x e1, A_v = [0, |N|^2].
+  const Vec3 y_axis = normal.cross(e1);
+  const std::array<double, 3> y = {y_axis.dot(w[0]), y_axis.dot(w[1]), y_axis.dot(w[2])};
+  const double margin_y = kCrossingMarginY * m5 * m2 + kUnderflowFloor;
+  const bool apart_v =
+      apart_on_axis(z1 * y[k[0]] + z0 * y[k[1]], s01, margin_y, z2 * y[k[0]] + z0 * y[k[2]], s02,
+                    margin_y, 0.0, normal.squaredNorm());
+  // W: x* = e1, A_w = [min(0, x0), max(|e1|^2, x0)] with x0 = e1 . e2. Both rejections are
+  // evaluated before one branch (random pairs make these branches unpredictable).
+  const double x0 = e1.dot(e2);
+  const double length = e1.squaredNorm();
+  const std::array<double, 3> x = {e1.dot(w[0]), e1.dot(w[1]), e1.dot(w[2])};
+  const double margin_x = kCrossingMarginX * m5 + kUnderflowFloor;
+  const bool apart_w =
+      apart_on_axis(z1 * x[k[0]] + z0 * x[k[1]], s01, margin_x, z2 * x[k[0]] + z0 * x[k[2]], s02,
+                    margin_x, std::min(0.0, x0), std::max(length, x0));
+  if (apart_v | apart_w) {
+    return {};
+  }
+
+  // Clipping of L_B's line against A in H: e_i = orient3d(Q0, Q1, Q2, P_i), certified.
+  const Vec3 f1 = q1 - q0;
+  const Vec3 f2 = q2 - q0;
+  const Vec3 normal_b = f1.cross(f2);
+  const std::array<double, 3> e = {normal_b.dot(p0 - q0), normal_b.dot(p1 - q0),
+                                   normal_b.dot(p2 - q0)};
+  // The bound from step 1's magnitudes: |Q_i - Q0| <= 2 m_w and |P_i - Q0| <= m_a + m_w
+  // (max norms, up to rounding that the bound's slack covers).
+  const double m_b = 2.0 * m_w;
+  const SideMasks se = side_masks(e, kSideBound * m_b * m_b * (m_a + m_w) + kUnderflowFloor);
+  if (se.one_side()) {
+    return {};  // the line misses A: no chord (figure 4.16, n = 0)
+  }
+  if (!se.all_decided()) {
+    return projection_exact({p0, p1, p2}, {q0, q1, q2});
+  }
+
+  // Figure 4.15 on the line H x B-plane, direction D = N_A x N_B, parameter
+  // lambda(x) = D . (x - P1). The chord runs between A's edges from the vertex P_a alone on its
+  // side of B's plane; L_B between B's edges from Q0. With both triangles counter-clockwise
+  // about their normals, the chord end on P_a P_(a+1) is the upper one (along D) when P_a is on
+  // B's positive side, and L_B's end on Q0 Q1 the lower one when Q0 is on H's positive side.
+  const int pa = se.alone();
+  const bool a_positive = se.alone_positive();
+  const bool q_positive = sz.alone_positive();
+  const int a_low = a_positive ? (pa + 2) % 3 : (pa + 1) % 3;
+  const int a_high = a_positive ? (pa + 1) % 3 : (pa + 2) % 3;
+  const int b_low = q_positive ? 1 : 2;  // in the relabelled order k
+  const int b_high = q_positive ? 2 : 1;
+  const Vec3 direction = normal.cross(normal_b);
+  const std::array<double, 3> lambda_a = {direction.dot(e2), 0.0, direction.dot(e1)};
+  const std::array<double, 3> lambda_b = {direction.dot(w[k[0]]), direction.dot(w[k[1]]),
+                                          direction.dot(w[k[2]])};
+  // Ends as lambda numerators over positive denominators, by the same ratios as above.
+  const std::array<double, 3> abs_e = {std::abs(e[0]), std::abs(e[1]), std::abs(e[2])};
+  auto chord_end = [&](int other) {
+    return std::pair(abs_e[other] * lambda_a[pa] + abs_e[pa] * lambda_a[other],
+                     abs_e[pa] + abs_e[other]);
+  };
+  const std::array<double, 3> abs_z = {z0, z1, z2};
+  auto lb_end = [&](int other) {
+    return std::pair(abs_z[other] * lambda_b[0] + z0 * lambda_b[other], z0 + abs_z[other]);
+  };
+  const auto [c_low, sc_low] = chord_end(a_low);
+  const auto [c_high, sc_high] = chord_end(a_high);
+  const auto [l_low, sl_low] = lb_end(b_low);
+  const auto [l_high, sl_high] = lb_end(b_high);
+  // Signs of lambda(L_B high) - lambda(chord low) and lambda(L_B low) - lambda(chord high),
+  // cross-multiplied (bound kOrderMargin). Within the margin, orient3d(Pa, Pb, Qc, Qd) with each
+  // edge oriented from the negative to the positive side of the other's plane gives the same
+  // sign exactly.
+  const double m11 = m5 * m5 * m;
+  const double order_margin = kOrderMargin * m11 + kUnderflowFloor;
+  const double before_value = l_high * sc_low - c_low * sl_high;
+  const double after_value = l_low * sc_high - c_high * sl_low;
+  const Vec3* const pv[3] = {&p0, &p1, &p2};
+  const Vec3* const qv[3] = {&q0, &q1, &q2};
+  const Vec3& apex_a = *pv[pa];
+  const Vec3& apex_b = *qv[k[0]];
+  auto order = [&](double value, int a_other, int b_other) {
+    if (std::abs(value) > order_margin) {
+      return value > 0.0 ? 1 : -1;
+    }
+    const Vec3& a_far = *pv[a_other];
+    const Vec3& b_far = *qv[k[b_other]];
+    return orient3d(a_positive ? a_far : apex_a, a_positive ? apex_a : a_far,
+                    q_positive ? b_far : apex_b, q_positive ? apex_b : b_far);
+  };
+  const int before = order(before_value, a_low, b_high);
+  const int after = order(after_value, a_high, b_low);
+  if ((before < 0) | (after > 0)) {
+    return {};
+  }
+
+  // The segment: the later of the two lower ends to the earlier of the two upper ends (chosen
+  // in floating point: where they are close either is right to rounding), interpolated along
+  // its edge.
+  auto a_point = [&](int other) {
+    return apex_a + (e[pa] / (e[pa] - e[other])) * (*pv[other] - apex_a);
+  };
+  auto b_point = [&](int other) {
+    return apex_b + (z[k[0]] / (z[k[0]] - z[k[other]])) * (*qv[k[other]] - apex_b);
+  };
+  const bool chord_starts = c_low * sl_low >= l_low * sc_low;
+  const bool chord_ends = c_high * sl_high <= l_high * sc_high;
+  return segment_result(chord_starts ? a_point(a_low) : b_point(b_low),
+                        chord_ends ? a_point(a_high) : b_point(b_high));
 }
 
 }  // namespace softbench::collision

@@ -12,8 +12,11 @@
 // clipping of figure 4.16, and coplanar triangles by clipping B's edges plus the containment
 // test of figure 4.17.
 //
-// Exactness: every sign decision is a filtered exact predicate on the input coordinates
-// (collision/exact_predicates.h), so the answer equals the exact one for every input:
+// Exactness: every sign decision equals the exact one for every finite input. The common case
+// is decided in floating point with a priori error bounds (collision/tri_tri_projection_bounds.h:
+// the z* signs, the V and W rejections, the clipping signs e_i and the order of the chord and
+// L_B on the line); whatever those cannot certify is decided by filtered exact predicates
+// (collision/exact_predicates.h):
 //  - the side of H each Q_i lies on is orient3d(P1, P2, P0, Q_i);
 //  - the characteristic values e_i of the clipping (P_i in the line equation of L_B) are, up to
 //    a positive factor, orient3d(Q0, Q1, Q2, P_i), because L_B is the trace of B's plane in H;
@@ -22,30 +25,21 @@
 //    orient3d(Pa, Pb, Qc, Qd);
 //  - in-plane tests (cases (a), (c)) use orient2d on the projection that drops the dominant
 //    coordinate of A's normal (exact, the points being exactly coplanar).
-// The V and W rejections use the frame coordinates in floating point but reject only with a
-// margin larger than the frame's rounding error, so they never reject touching triangles.
-// Segment end points are floating point (world frame).
+// The frame is not normalised: the thesis's unit axes become x* = P1P2, z* = N and y* = N x x*,
+// the same directions with other lengths, which leave every sign and every comparison of ratios
+// unchanged (t = |z1| / (|z1| + |z0|) is compared multiplied through by its denominator), so
+// no square root or division is needed for a decision.
 //
-// Tolerance policy (closed sets, no epsilon): touching at a vertex or along an edge intersects;
-// an edge lying in the other's plane is a segment contact; identical or reversed triangles are
-// kCoplanar. Degenerate (zero-area, collinear) triangles are reduced exactly to the segment or
-// point they are and tested exactly: a crossing or touching gives kSegment with the common point
-// (or the collinear overlap of two segments), a segment lying in the other (proper) triangle's
-// plane and meeting it gives kCoplanar, a point touching anything gives kSegment of length zero.
+// Degenerate (zero-area, collinear) triangles are reduced exactly to the segment or point they
+// are and tested exactly: a crossing or touching gives kSegment with the common point (or the
+// collinear overlap of two segments), a segment lying in the other (proper) triangle's plane
+// and meeting it gives kCoplanar, a point touching anything gives kSegment of length zero.
+// Identical or reversed triangles are kCoplanar. For kSegment, [a, b] is B intersected with A.
 
 #include "collision/tri_tri_result.h"
 
-#include <Eigen/Core>
-
 namespace softbench::collision {
 
-/// Intersection of triangle A = (p0, p1, p2) and triangle B = (q0, q1, q2), exact for finite
-/// input (see above). For kSegment, [a, b] is B intersected with A (a == b for a point contact).
-TriTriResult tri_tri_projection(const Eigen::Vector3d& p0,
-                                const Eigen::Vector3d& p1,
-                                const Eigen::Vector3d& p2,
-                                const Eigen::Vector3d& q0,
-                                const Eigen::Vector3d& q1,
-                                const Eigen::Vector3d& q2);
+TriTriTest tri_tri_projection;
 
 }  // namespace softbench::collision

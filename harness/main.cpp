@@ -6,6 +6,8 @@
 #include "harness/compare_command.h"
 #include "harness/mesh_commands.h"
 #include "harness/run_commands.h"
+#include "harness/stability_command.h"
+#include "harness/sweep_command.h"
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +23,8 @@ int main(int argc, char** argv) {
   softbench::harness::add_run_commands(app);
   softbench::harness::add_calibrate_command(app);
   softbench::harness::add_compare_command(app);
+  softbench::harness::add_stability_command(app);
+  softbench::harness::add_sweep_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

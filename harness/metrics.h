@@ -32,6 +32,14 @@ double max_speed(const Eigen::Matrix3Xd& velocities);
 /// Kinetic energy sum 1/2 m_i |v_i|^2, J.
 double kinetic_energy(const Eigen::VectorXd& masses, const Eigen::Matrix3Xd& velocities);
 
+/// How far a run is from the converged reference, over the compared times (harness/sweep.h).
+struct Accuracy {
+  double rms_error = 0.0;     ///< mean over times of RMS |x - x_ref| / RMS |x_ref - x_rest|
+  double max_error = 0.0;     ///< largest over times of max |x - x_ref| / max |x_ref - x_rest|
+  double volume_error = 0.0;  ///< largest over times of |V - V_ref| / V_ref
+  std::optional<double> peak_force_error;  ///< |F - F_ref| / F_ref of the peak tool force
+};
+
 /// Recovery after release: the residual (RMS distance to the reference shape / rest bounding-box
 /// diagonal) over time, and when it fell below 1% for good.
 class RecoveryTracker {

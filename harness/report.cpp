@@ -68,7 +68,17 @@ nlohmann::json to_json(const ModelRun& run) {
   } else {
     json["recovery"] = nullptr;
   }
-  json["accuracy"] = nullptr;  // filled when a reference model ran (a later issue)
+  if (run.accuracy) {
+    const Accuracy& a = *run.accuracy;
+    json["accuracy"] = {
+        {"rms_error", number_or_null(a.rms_error)},
+        {"max_error", number_or_null(a.max_error)},
+        {"volume_error", number_or_null(a.volume_error)},
+        {"peak_force_error",
+         a.peak_force_error ? number_or_null(*a.peak_force_error) : nlohmann::json(nullptr)}};
+  } else {
+    json["accuracy"] = nullptr;  // the scene asks for no accuracy: no reference was run
+  }
   json["solver"] = {{"mean_iterations", run.mean_iterations},
                     {"factorizations", run.factorizations},
                     {"linear_solves", run.linear_solves},

@@ -1,9 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run_commands.h"
 
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_validation.h"
 #include "harness/mesh_override.h"
+#include "harness/reference.h"
 #include "harness/report.h"
 #include "harness/runner.h"
+#include "harness/sweep.h"
 #include "models/model_registry.h"
 #include "scenes/scene.h"
 
@@ -39,7 +43,21 @@ void run(const RunArguments& arguments) {
   options.frames_dir = out_dir / "frames";
   options.progress = &std::cerr;
   options.live_progress = ::isatty(STDERR_FILENO) != 0;
-  const std::vector<ModelRun> runs = run_scene(scene, options);
+  // Only a scene that asks for an accuracy gets a reference run (cached under out/reference).
+  const bool measure_accuracy = scene.requirements && scene.requirements->accuracy;
+  const ReferenceSettings reference_settings;
+  if (measure_accuracy) {
+    options.snapshot_times = comparison_times(scene, reference_settings.times);
+  }
+  std::vector<ModelRun> runs = run_scene(scene, options);
+  if (measure_accuracy) {
+    const ReferenceRun reference =
+        reference_run(scene, reference_settings, std::filesystem::path("out") / "reference");
+    const Eigen::Matrix3Xd rest = make_tet_mesh(read_mesh(scene.mesh)).rest_positions();
+    for (ModelRun& run : runs) {
+      run.accuracy = accuracy_against(run, reference, rest);
+    }
+  }
   write_reports(out_dir, scene, runs);
   std::cout << summary_markdown(scene, runs) << "\nwrote " << (out_dir / "metrics.json").string()
             << " and " << (out_dir / "summary.md").string() << "\n";

@@ -141,6 +141,12 @@ ModelRun run_model(const scenes::Scene& scene,
       }
     }
     run.samples.push_back(sample);
+    // Half a step of slack: a time that rounding puts just past a step's end is that step's.
+    while (run.snapshots.size() < options.snapshot_times.size()
+           && start + 1.5 * scene.dt > options.snapshot_times[run.snapshots.size()]) {
+      run.snapshots.push_back(
+          {options.snapshot_times[run.snapshots.size()], x, mesh_volume(mesh, x)});
+    }
     if (options.frames_every > 0 && step % options.frames_every == 0) {
       write_frame(options, model_name, step, mesh, *body);
     }

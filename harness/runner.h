@@ -22,6 +22,16 @@ struct RunOptions {
   std::filesystem::path frames_dir;  ///< where frames go (frames_dir/<model>/frame_NNNNN.vtu)
   std::ostream* progress = nullptr;  ///< one line per model when it finishes
   bool live_progress = false;        ///< also rewrite a step counter line (for a terminal)
+  /// s: scene times at which to keep the body's positions (ModelRun::snapshots), e.g. to compare
+  /// against a reference run; each is taken at the end of the first step ending at or after it.
+  std::vector<double> snapshot_times;
+};
+
+/// The body at one of RunOptions::snapshot_times.
+struct Snapshot {
+  double time = 0.0;           ///< s, the requested time
+  Eigen::Matrix3Xd positions;  ///< 3 x #V, m
+  double volume = 0.0;         ///< m^3
 };
 
 /// One step of a run, recorded for the curves (force-displacement, recovery over time).
@@ -61,6 +71,9 @@ struct ModelRun {
   int lost_contact_vertices = 0;
   double peak_tool_force = 0.0;     ///< N: largest StepSample::tool_force
   std::vector<StepSample> samples;  ///< one per step run
+  std::vector<Snapshot> snapshots;  ///< at RunOptions::snapshot_times reached before a blow-up
+  /// Against the reference, when the scene asks for an accuracy (filled by the run command).
+  std::optional<Accuracy> accuracy;
   bool stable = true;
   std::optional<int> diverged_at_step;
   std::string divergence;  ///< why it was stopped ("" when stable)

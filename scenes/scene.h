@@ -109,6 +109,17 @@ struct StabilityLimits {
   double max_displacement = 10.0;
 };
 
+/// What a user needs from the scene's runs (optional): `softbench recommend` picks the cheapest
+/// model and settings that meet it, and a run computes the reference only when an accuracy is
+/// asked for.
+struct Requirements {
+  double steps_per_second = 0.0;   ///< the frame budget; 0: none
+  std::optional<double> accuracy;  ///< largest relative RMS position error vs the reference
+  /// What the user reads: "surface" (positions), "volume", "contact_force". Each named output
+  /// must be within the accuracy too.
+  std::vector<std::string> outputs = {"surface"};
+};
+
 struct Scene {
   std::string name;
   std::string description;
@@ -122,6 +133,7 @@ struct Scene {
   std::optional<Grasp> grasp;
   std::optional<Instrument> instrument;
   StabilityLimits limits;
+  std::optional<Requirements> requirements;
   /// Per-model parameter blocks, as written; each model validates its own.
   std::map<std::string, nlohmann::json> model_parameters;
 

@@ -273,6 +273,34 @@ Instrument read_instrument(const JsonReader& root, const fs::path& folder) {
   return instrument;
 }
 
+Requirements read_requirements(const JsonReader& root) {
+  const JsonReader in = root.object("requirements");
+  allow_only(in, {"steps_per_second", "accuracy", "outputs"});
+  Requirements requirements;
+  requirements.steps_per_second =
+      in.number_or("steps_per_second", requirements.steps_per_second, Range::non_negative());
+  if (in.has("accuracy")) {
+    requirements.accuracy = in.number("accuracy", Range::positive());
+  }
+  if (in.has("outputs")) {
+    requirements.outputs.clear();
+    const nlohmann::json& outputs = in.raw("outputs");
+    if (!outputs.is_array() || outputs.empty()) {
+      in.fail_expected("outputs",
+                       "a non-empty array of \"surface\", \"volume\", \"contact_force\"");
+    }
+    for (const nlohmann::json& output : outputs) {
+      if (!output.is_string()
+          || (output != "surface" && output != "volume" && output != "contact_force")) {
+        in.fail_expected("outputs",
+                         "a non-empty array of \"surface\", \"volume\", \"contact_force\"");
+      }
+      requirements.outputs.push_back(output.get<std::string>());
+    }
+  }
+  return requirements;
+}
+
 StabilityLimits read_limits(const JsonReader& root) {
   StabilityLimits limits;
   if (!root.has("limits")) {
@@ -342,7 +370,7 @@ Scene load_scene(const std::filesystem::path& path) {
 Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& source) {
   const JsonReader root(json, source.string());
   allow_only(root, {"name", "description", "mesh", "material", "gravity", "time", "fixed", "grasp",
-                    "instrument", "limits", "models"});
+                    "instrument", "limits", "requirements", "models"});
   const fs::path folder = source.parent_path();
   Scene scene;
   scene.source = source;
@@ -363,6 +391,9 @@ Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& sourc
     scene.instrument = read_instrument(root, folder);
   }
   scene.limits = read_limits(root);
+  if (root.has("requirements")) {
+    scene.requirements = read_requirements(root);
+  }
   scene.model_parameters = read_models(root);
   return scene;
 }
@@ -436,6 +467,13 @@ nlohmann::json to_json(const Scene& scene) {
 
   json["limits"] = {{"max_speed", scene.limits.max_speed},
                     {"max_displacement", scene.limits.max_displacement}};
+  if (scene.requirements) {
+    json["requirements"] = {{"steps_per_second", scene.requirements->steps_per_second},
+                            {"outputs", scene.requirements->outputs}};
+    if (scene.requirements->accuracy) {
+      json["requirements"]["accuracy"] = *scene.requirements->accuracy;
+    }
+  }
   json["models"] = nlohmann::json::object();
   for (const auto& [name, block] : scene.model_parameters) {
     json["models"][name] = block;

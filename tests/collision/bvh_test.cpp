@@ -453,6 +453,44 @@ TEST(BvhCollide, ReturnsTheTestsResultsAndSwappingTheTreesSwapsThePairs) {
   }
 }
 
+TEST(BvhCollide, BoxTieBreakerMakesTheHybridVisitNoMoreNodePairsThanTheAabbTree) {
+  // The thesis's hybrid schedules decide sphere-level pairs whose spheres overlap by the box;
+  // the all-sphere peer does not (it tests spheres only).
+  EXPECT_TRUE(BvhSchedule::liver().box_tie_breaker);
+  EXPECT_TRUE(BvhSchedule::instrument().box_tie_breaker);
+  EXPECT_FALSE(BvhSchedule::all_sphere().box_tie_breaker);
+  std::mt19937 rng(15);
+  TriMesh mesh_a = icosphere(4, 1.0);  // 5120 triangles: 10 levels, the top 6 with spheres
+  perturb_radially(mesh_a, 0.1, rng);
+  const TriMesh mesh_b = box_surface(6, Eigen::Vector3d(0.05, 0.05, 1.5));  // a long thin probe
+  CollideBuffers buffers;
+  std::vector<TrianglePair> pairs;
+  int placements_with_fewer = 0;
+  for (const double offset : {1.2, 1.0, 0.9, 0.6}) {
+    const Eigen::Matrix3Xd positions_b =
+        (random_rotation(rng) * mesh_b.vertices).colwise() + Eigen::Vector3d(offset, 0.1, 0.0);
+    QueryStats stats[3];
+    const BvhSchedule liver[3] = {BvhSchedule::liver(), BvhSchedule::all_aabb(11),
+                                  BvhSchedule::all_sphere(11)};
+    const BvhSchedule tool[3] = {BvhSchedule::instrument(), BvhSchedule::all_aabb(9),
+                                 BvhSchedule::all_sphere(9)};
+    for (int k = 0; k < 3; ++k) {
+      const Bvh tree_a(mesh_a.vertices, mesh_a.triangles, liver[k]);
+      const Bvh tree_b(positions_b, mesh_b.triangles, tool[k]);
+      collide(tree_a, mesh_a.vertices, tree_b, positions_b, buffers, pairs, &stats[k],
+              SeparatingAxisTest{});
+    }
+    SCOPED_TRACE(offset);
+    EXPECT_LE(stats[0].node_visits, stats[1].node_visits);
+    EXPECT_EQ(stats[0].tri_tests, stats[1].tri_tests);  // the same leaf pairs, the same filter
+    EXPECT_EQ(stats[0].pairs_found, stats[2].pairs_found);
+    EXPECT_GT(stats[0].sphere_tests, 0);
+    placements_with_fewer += stats[0].node_visits < stats[2].node_visits ? 1 : 0;
+  }
+  // Against the pure-sphere tree the boxes cut node visits.
+  EXPECT_GT(placements_with_fewer, 0);
+}
+
 TEST(BvhCollide, RepeatedQueriesReuseTheBuffersAndEmptyTreesGiveNoPairs) {
   const TriMesh mesh = icosphere(2, 1.0);
   const Eigen::Matrix3Xd shifted = mesh.vertices.colwise() + Eigen::Vector3d(1.2, 0, 0);

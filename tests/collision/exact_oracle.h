@@ -13,25 +13,15 @@
 
 namespace softbench::collision::test {
 
-/// Exact answer, with the contact kind of the documented policy (collision/tri_tri_projection.h):
-/// kCoplanar when both are proper triangles in one plane, or one is a segment-like degenerate
-/// triangle lying in the plane of the other, proper one; kSegment for every other contact
-/// (including a point-like degenerate triangle touching anything).
-TriTriContact exact_contact(const Eigen::Vector3d& p0,
-                            const Eigen::Vector3d& p1,
-                            const Eigen::Vector3d& p2,
-                            const Eigen::Vector3d& q0,
-                            const Eigen::Vector3d& q1,
-                            const Eigen::Vector3d& q2);
+/// Exact answer, with the contact kind of the documented policy (collision/tri_tri_result.h,
+/// collision/tri_tri_projection.h): kCoplanar when both are proper triangles in one plane, or one
+/// is a segment-like degenerate triangle lying in the plane of the other, proper one; kSegment for
+/// every other contact (including a point-like degenerate triangle touching anything).
+TrianglePairFunction<TriTriContact> exact_contact;
 
 /// exact_contact(...) != kDisjoint, without classifying the contact (what the benchmark times as
 /// "CGAL's exact test": two collinearity checks, then Triangle_3 do_intersect).
-bool exact_intersect(const Eigen::Vector3d& p0,
-                     const Eigen::Vector3d& p1,
-                     const Eigen::Vector3d& p2,
-                     const Eigen::Vector3d& q0,
-                     const Eigen::Vector3d& q1,
-                     const Eigen::Vector3d& q2);
+TrianglePairFunction<bool> exact_intersect;
 
 /// Exactly collinear (zero-area) triangle.
 bool exactly_degenerate(const Eigen::Vector3d& p0,

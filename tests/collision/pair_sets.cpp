@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <random>
+#include <sstream>
+#include <string>
 #include <utility>
 
 namespace softbench::collision::test {
@@ -15,22 +17,130 @@ using Contact = TriTriContact;
 
 const std::array<Vec3, 3> kA = {Vec3(0.5, 1.5, 0.0), Vec3(0.0, 0.0, 0.0), Vec3(2.0, 0.0, 0.0)};
 
-DesignedPair against_a(std::string label,
-                       std::string figure_case,
-                       const Vec3& q0,
-                       const Vec3& q1,
-                       const Vec3& q2,
-                       Contact expected) {
-  return {std::move(label), std::move(figure_case), TriPair{kA, {q0, q1, q2}}, expected};
-}
-
-DesignedPair general(std::string label,
-                     std::string figure_case,
-                     std::array<Vec3, 3> a,
-                     std::array<Vec3, 3> b,
-                     Contact expected) {
-  return {std::move(label), std::move(figure_case), TriPair{a, b}, expected};
-}
+/// The designed pairs: a line "<figure case> <expected contact> <label>", then B's vertices
+/// ("B x y z, x y z, x y z") and, when A is not kA, A's before them. Coordinates are exact
+/// doubles as written (shortest round-trip decimals).
+constexpr const char* kDesignedPairs = R"(
+a disjoint (a) rejected on V: B above A in y
+  B 0 2 0, 1 2 0, 0 3 0
+a disjoint (a) rejected on W: B right of A in x
+  B 3 0 0, 4 0 0, 3 1 0
+a disjoint (a) passes V and W, disjoint near P2
+  B 2 1 0, 3 1 0, 2 2 0
+a coplanar (a) coplanar overlap, edges cross
+  B 1 0.5 0, 3 0.5 0, 1 2 0
+a coplanar (a) coplanar containment: B inside A
+  B 0.5 0.2 0, 1 0.2 0, 0.6 0.6 0
+a coplanar (a) coplanar containment: A inside B (figure 4.17)
+  B -1 -1 0, 5 -1 0, -1 5 0
+a coplanar (a) coplanar shared vertex P2
+  B 2 0 0, 3 0 0, 3 1 0
+a coplanar (a) coplanar shared edge P1P2 (mesh neighbours)
+  B 0 0 0, 2 0 0, 1 -1 0
+a coplanar (a) coplanar vertex on edge P1P2
+  B 1 0 0, 1.5 -1 0, 0.5 -1 0
+a coplanar (a) identical
+  B 0.5 1.5 0, 0 0 0, 2 0 0
+a coplanar (a) identical, reversed orientation
+  B 0.5 1.5 0, 2 0 0, 0 0 0
+a disjoint (a) coplanar gap 1e-12 below P1P2
+  B 1 -1e-12 0, 1.5 -1 0, 0.5 -1 0
+b disjoint (b) B above H
+  B 0 0 1, 2 0 2, 0 2 1.5
+b disjoint (b) B below H
+  B 0 0 -1, 2 0 -2, 0 2 -1.5
+b disjoint (b) parallel copy 1e-9 above
+  B 0.5 1.5 1e-09, 0 0 1e-09, 2 0 1e-09
+b disjoint (b) vertex 1e-15 above the face
+  B 1 0.5 1e-15, 1 0.5 1, 0 0 1
+c segment (c) vertex on face: point contact
+  B 1 0.5 0, 1 0.5 1, 0 0 1
+c disjoint (c) rejected on V: Q0 beyond P0's height
+  B 1 2 0, 1 2 1, 0 0 1
+c disjoint (c) rejected on W: Q0 right of P2
+  B 3 0.5 0, 3 0.5 1, 0 0 1
+c disjoint (c) passes V and W, Q0 outside A
+  B 1.8 1 0, 1.8 1 -1, 0 0 -1
+c segment (c) shared vertex P0 only, 3D
+  B 0.5 1.5 0, 1.5 1.5 1, 0.5 2.5 1
+c segment (c) vertex on edge P1P2
+  B 1 0 0, 1 -1 1, 2 -1 1
+d segment (d) edge in plane, inside A
+  B 0.5 0.3 0, 1 0.3 0, 0.7 0.3 1
+d segment (d) edge in plane, crossing A's boundary
+  B 1 0.5 0, 3 0.5 0, 2 0.5 -1
+d disjoint (d) rejected on V
+  B 0 2 0, 1 2 0, 0.5 2 1
+d disjoint (d) rejected on W
+  B 3 0.2 0, 4 1 0, 3.5 1 1
+d segment (d) shared edge P1P2, dihedral (mesh neighbours)
+  B 0 0 0, 2 0 0, 1 -1 1
+d disjoint (d) passes V and W, outside near P2
+  B 1.5 1 0, 2 1.5 0, 1.7 1.2 1
+d segment (d) in-plane edge touching P0 only
+  B 0 1.5 0, 1 1.5 0, 0.5 2 1
+e segment (e) L_B inside A
+  B 1 0.5 0, 1 0.2 1, 1 0.2 -1
+e disjoint (e) rejected on V
+  B 1 2 0, 1 3 1, 1 3 -1
+e disjoint (e) rejected on W
+  B 3 0.5 0, 4 0.5 1, 4 0.5 -1
+e segment (e) Q0 on edge P1P2, L_B outside
+  B 1 0 0, 1 -1 1, 1 -1 -1
+e disjoint (e) passes V and W, misses A
+  B 1.9 0.9 0, 1.6 1.2 1, 1.6 1.2 -1
+f segment (f) B pierces A
+  B 1 0.5 1, 0.5 0.3 -1, 1.5 0.3 -1
+f disjoint (f) rejected on V
+  B 1 3.5 1, 0.5 3.3 -1, 1.5 3.3 -1
+f disjoint (f) rejected on W
+  B 6 0.5 1, 5.5 0.3 -1, 6.5 0.3 -1
+f disjoint (f) passes V and W, misses near P2
+  B 1.9 1 1, 1.7 0.8 -1, 2.1 0.8 -1
+f segment (f) edge crosses edge P1P2 exactly: edge contact point
+  B 1 -0.5 1, 1 0.5 -1, 1 -2 -1
+f disjoint (f) edge misses edge P1P2 by 1e-12
+  B 1 -0.500000000001 1, 1 0.499999999999 -1, 1 -2 -1
+f segment (f) B's face through P0 only (vertex on face)
+  B 0.5 1.5 1, -0.5 1.5 -1, 1.5 1.5 -1
+f segment (f) A's edge P1P2 in B's plane (edge in plane)
+  B 1 0 1, 0 0 -1, 2.5 0 -1
+f segment (f) near-coplanar tilt 1e-10, crossing
+  B 1 0.6 -1e-10, 0.5 0.5 1e-10, 1.5 0.5 1e-10
+d segment (f) large coordinates 1e4, shared edge dihedral
+  A 10000 10000 10000, 10001 10000 10000, 10000 10001 10000
+  B 10001 10000 10000, 10000 10000 10000, 10000.5 9999 10001
+b disjoint (f) small triangles (1e-3) 1e-5 apart
+  A 0 0 0, 0.001 0 0, 0 0.001 0
+  B 0 0 1e-05, 0.001 0 1e-05, 0 0.001 2e-05
+a coplanar (a) tilted plane x+y+z=1, touching at a vertex
+  A 1 0 0, 0 1 0, 0 0 1
+  B 0 0 1, -1 0 2, 0 -1 2
+degenerate segment degenerate B: segment piercing A
+  B 1 0.5 -1, 1 0.5 1, 1 0.5 0.25
+degenerate disjoint degenerate B: segment missing A
+  B 3 3 -1, 3 3 1, 3 3 0
+degenerate coplanar degenerate B: segment in A's plane crossing A
+  B 1 0.5 0, 3 0.5 0, 2 0.5 0
+degenerate disjoint degenerate B: segment in A's plane outside A
+  B 1 2 0, 3 2 0, 2 2 0
+degenerate segment degenerate B: point inside A
+  B 1 0.5 0, 1 0.5 0, 1 0.5 0
+degenerate disjoint degenerate B: point 1e-9 above A
+  B 1 0.5 1e-09, 1 0.5 1e-09, 1 0.5 1e-09
+degenerate segment degenerate A (segment) piercing B
+  A 1 0.5 -1, 1 0.5 1, 1 0.5 0.5
+  B 0.5 1.5 0, 0 0 0, 2 0 0
+degenerate segment degenerate both: segments crossing
+  A 0 0 0, 2 0 0, 1 0 0
+  B 1 -1 0, 1 1 0, 1 0.5 0
+degenerate disjoint degenerate both: parallel segments
+  A 0 0 0, 2 0 0, 1 0 0
+  B 0 1 0, 2 1 0, 1 1 0
+degenerate segment degenerate both: collinear overlapping segments
+  A 0 0 0, 2 2 2, 1 1 1
+  B 1.5 1.5 1.5, 3 3 3, 4 4 4
+)";
 
 class Sampler {
  public:
@@ -85,134 +195,37 @@ Vec3 snap_to_plane(const Vec3& x, const std::array<Vec3, 3>& t) {
 }  // namespace
 
 std::vector<DesignedPair> designed_pairs() {
-  using V = Vec3;
-  std::vector<DesignedPair> p;
-  // (a) B in H: V and W overlap of the projections, then coplanar triangles (figure 4.17).
-  p.push_back(against_a("(a) rejected on V: B above A in y", "a", V(0, 2, 0), V(1, 2, 0),
-                        V(0, 3, 0), Contact::kDisjoint));
-  p.push_back(against_a("(a) rejected on W: B right of A in x", "a", V(3, 0, 0), V(4, 0, 0),
-                        V(3, 1, 0), Contact::kDisjoint));
-  p.push_back(against_a("(a) passes V and W, disjoint near P2", "a", V(2, 1, 0), V(3, 1, 0),
-                        V(2, 2, 0), Contact::kDisjoint));
-  p.push_back(against_a("(a) coplanar overlap, edges cross", "a", V(1, 0.5, 0), V(3, 0.5, 0),
-                        V(1, 2, 0), Contact::kCoplanar));
-  p.push_back(against_a("(a) coplanar containment: B inside A", "a", V(0.5, 0.2, 0), V(1.0, 0.2, 0),
-                        V(0.6, 0.6, 0), Contact::kCoplanar));
-  p.push_back(against_a("(a) coplanar containment: A inside B (figure 4.17)", "a", V(-1, -1, 0),
-                        V(5, -1, 0), V(-1, 5, 0), Contact::kCoplanar));
-  p.push_back(against_a("(a) coplanar shared vertex P2", "a", V(2, 0, 0), V(3, 0, 0), V(3, 1, 0),
-                        Contact::kCoplanar));
-  p.push_back(against_a("(a) coplanar shared edge P1P2 (mesh neighbours)", "a", V(0, 0, 0),
-                        V(2, 0, 0), V(1, -1, 0), Contact::kCoplanar));
-  p.push_back(against_a("(a) coplanar vertex on edge P1P2", "a", V(1, 0, 0), V(1.5, -1, 0),
-                        V(0.5, -1, 0), Contact::kCoplanar));
-  p.push_back(against_a("(a) identical", "a", kA[0], kA[1], kA[2], Contact::kCoplanar));
-  p.push_back(against_a("(a) identical, reversed orientation", "a", kA[0], kA[2], kA[1],
-                        Contact::kCoplanar));
-  p.push_back(against_a("(a) coplanar gap 1e-12 below P1P2", "a", V(1, -1e-12, 0), V(1.5, -1, 0),
-                        V(0.5, -1, 0), Contact::kDisjoint));
-  // (b) B strictly on one side of H.
-  p.push_back(
-      against_a("(b) B above H", "b", V(0, 0, 1), V(2, 0, 2), V(0, 2, 1.5), Contact::kDisjoint));
-  p.push_back(
-      against_a("(b) B below H", "b", V(0, 0, -1), V(2, 0, -2), V(0, 2, -1.5), Contact::kDisjoint));
-  p.push_back(against_a("(b) parallel copy 1e-9 above", "b", kA[0] + V(0, 0, 1e-9),
-                        kA[1] + V(0, 0, 1e-9), kA[2] + V(0, 0, 1e-9), Contact::kDisjoint));
-  p.push_back(against_a("(b) vertex 1e-15 above the face", "b", V(1, 0.5, 1e-15), V(1, 0.5, 1),
-                        V(0, 0, 1), Contact::kDisjoint));
-  // (c) Q0 on H, Q1 and Q2 on one side: Q_L = Q_R = Q0, point in triangle (figure 4.18).
-  p.push_back(against_a("(c) vertex on face: point contact", "c", V(1, 0.5, 0), V(1, 0.5, 1),
-                        V(0, 0, 1), Contact::kSegment));
-  p.push_back(against_a("(c) rejected on V: Q0 beyond P0's height", "c", V(1, 2, 0), V(1, 2, 1),
-                        V(0, 0, 1), Contact::kDisjoint));
-  p.push_back(against_a("(c) rejected on W: Q0 right of P2", "c", V(3, 0.5, 0), V(3, 0.5, 1),
-                        V(0, 0, 1), Contact::kDisjoint));
-  p.push_back(against_a("(c) passes V and W, Q0 outside A", "c", V(1.8, 1.0, 0), V(1.8, 1, -1),
-                        V(0, 0, -1), Contact::kDisjoint));
-  p.push_back(against_a("(c) shared vertex P0 only, 3D", "c", V(0.5, 1.5, 0), V(1.5, 1.5, 1),
-                        V(0.5, 2.5, 1), Contact::kSegment));
-  p.push_back(against_a("(c) vertex on edge P1P2", "c", V(1, 0, 0), V(1, -1, 1), V(2, -1, 1),
-                        Contact::kSegment));
-  // (d) Q0, Q1 on H: L_B = Q0Q1, segment against A in H (figure 4.16).
-  p.push_back(against_a("(d) edge in plane, inside A", "d", V(0.5, 0.3, 0), V(1, 0.3, 0),
-                        V(0.7, 0.3, 1), Contact::kSegment));
-  p.push_back(against_a("(d) edge in plane, crossing A's boundary", "d", V(1, 0.5, 0), V(3, 0.5, 0),
-                        V(2, 0.5, -1), Contact::kSegment));
-  p.push_back(against_a("(d) rejected on V", "d", V(0, 2, 0), V(1, 2, 0), V(0.5, 2, 1),
-                        Contact::kDisjoint));
-  p.push_back(against_a("(d) rejected on W", "d", V(3, 0.2, 0), V(4, 1, 0), V(3.5, 1, 1),
-                        Contact::kDisjoint));
-  p.push_back(against_a("(d) shared edge P1P2, dihedral (mesh neighbours)", "d", V(0, 0, 0),
-                        V(2, 0, 0), V(1, -1, 1), Contact::kSegment));
-  p.push_back(against_a("(d) passes V and W, outside near P2", "d", V(1.5, 1.0, 0), V(2.0, 1.5, 0),
-                        V(1.7, 1.2, 1), Contact::kDisjoint));
-  p.push_back(against_a("(d) in-plane edge touching P0 only", "d", V(0, 1.5, 0), V(1, 1.5, 0),
-                        V(0.5, 2, 1), Contact::kSegment));
-  // (e) Q0 on H, Q1 and Q2 on opposite sides: Q_L = Q0, Q_R on Q1Q2.
-  p.push_back(against_a("(e) L_B inside A", "e", V(1, 0.5, 0), V(1, 0.2, 1), V(1, 0.2, -1),
-                        Contact::kSegment));
-  p.push_back(
-      against_a("(e) rejected on V", "e", V(1, 2, 0), V(1, 3, 1), V(1, 3, -1), Contact::kDisjoint));
-  p.push_back(against_a("(e) rejected on W", "e", V(3, 0.5, 0), V(4, 0.5, 1), V(4, 0.5, -1),
-                        Contact::kDisjoint));
-  p.push_back(against_a("(e) Q0 on edge P1P2, L_B outside", "e", V(1, 0, 0), V(1, -1, 1),
-                        V(1, -1, -1), Contact::kSegment));
-  p.push_back(against_a("(e) passes V and W, misses A", "e", V(1.9, 0.9, 0), V(1.6, 1.2, 1),
-                        V(1.6, 1.2, -1), Contact::kDisjoint));
-  // (f) Q0 alone on its side: Q_L on Q0Q1, Q_R on Q0Q2 by t = |z1| / (|z1| + |z0|).
-  p.push_back(against_a("(f) B pierces A", "f", V(1, 0.5, 1), V(0.5, 0.3, -1), V(1.5, 0.3, -1),
-                        Contact::kSegment));
-  p.push_back(against_a("(f) rejected on V", "f", V(1, 3.5, 1), V(0.5, 3.3, -1), V(1.5, 3.3, -1),
-                        Contact::kDisjoint));
-  p.push_back(against_a("(f) rejected on W", "f", V(6, 0.5, 1), V(5.5, 0.3, -1), V(6.5, 0.3, -1),
-                        Contact::kDisjoint));
-  p.push_back(against_a("(f) passes V and W, misses near P2", "f", V(1.9, 1.0, 1), V(1.7, 0.8, -1),
-                        V(2.1, 0.8, -1), Contact::kDisjoint));
-  p.push_back(against_a("(f) edge crosses edge P1P2 exactly: edge contact point", "f",
-                        V(1, -0.5, 1), V(1, 0.5, -1), V(1, -2, -1), Contact::kSegment));
-  p.push_back(against_a("(f) edge misses edge P1P2 by 1e-12", "f", V(1, -0.5 - 1e-12, 1),
-                        V(1, 0.5 - 1e-12, -1), V(1, -2, -1), Contact::kDisjoint));
-  p.push_back(against_a("(f) B's face through P0 only (vertex on face)", "f", V(0.5, 1.5, 1),
-                        V(-0.5, 1.5, -1), V(1.5, 1.5, -1), Contact::kSegment));
-  p.push_back(against_a("(f) A's edge P1P2 in B's plane (edge in plane)", "f", V(1, 0, 1),
-                        V(0, 0, -1), V(2.5, 0, -1), Contact::kSegment));
-  p.push_back(against_a("(f) near-coplanar tilt 1e-10, crossing", "f", V(1, 0.6, -1e-10),
-                        V(0.5, 0.5, 1e-10), V(1.5, 0.5, 1e-10), Contact::kSegment));
-  p.push_back(general("(f) large coordinates 1e4, shared edge dihedral", "d",
-                      {V(1e4, 1e4, 1e4), V(1e4 + 1, 1e4, 1e4), V(1e4, 1e4 + 1, 1e4)},
-                      {V(1e4 + 1, 1e4, 1e4), V(1e4, 1e4, 1e4), V(1e4 + 0.5, 1e4 - 1, 1e4 + 1)},
-                      Contact::kSegment));
-  p.push_back(general("(f) small triangles (1e-3) 1e-5 apart", "b",
-                      {V(0, 0, 0), V(1e-3, 0, 0), V(0, 1e-3, 0)},
-                      {V(0, 0, 1e-5), V(1e-3, 0, 1e-5), V(0, 1e-3, 2e-5)}, Contact::kDisjoint));
-  p.push_back(general("(a) tilted plane x+y+z=1, touching at a vertex", "a",
-                      {V(1, 0, 0), V(0, 1, 0), V(0, 0, 1)}, {V(0, 0, 1), V(-1, 0, 2), V(0, -1, 2)},
-                      Contact::kCoplanar));
-  // Degenerate (zero-area) triangles: reduced exactly to a segment or point.
-  p.push_back(against_a("degenerate B: segment piercing A", "degenerate", V(1, 0.5, -1),
-                        V(1, 0.5, 1), V(1, 0.5, 0.25), Contact::kSegment));
-  p.push_back(against_a("degenerate B: segment missing A", "degenerate", V(3, 3, -1), V(3, 3, 1),
-                        V(3, 3, 0), Contact::kDisjoint));
-  p.push_back(against_a("degenerate B: segment in A's plane crossing A", "degenerate", V(1, 0.5, 0),
-                        V(3, 0.5, 0), V(2, 0.5, 0), Contact::kCoplanar));
-  p.push_back(against_a("degenerate B: segment in A's plane outside A", "degenerate", V(1, 2, 0),
-                        V(3, 2, 0), V(2, 2, 0), Contact::kDisjoint));
-  p.push_back(against_a("degenerate B: point inside A", "degenerate", V(1, 0.5, 0), V(1, 0.5, 0),
-                        V(1, 0.5, 0), Contact::kSegment));
-  p.push_back(against_a("degenerate B: point 1e-9 above A", "degenerate", V(1, 0.5, 1e-9),
-                        V(1, 0.5, 1e-9), V(1, 0.5, 1e-9), Contact::kDisjoint));
-  p.push_back(general("degenerate A (segment) piercing B", "degenerate",
-                      {V(1, 0.5, -1), V(1, 0.5, 1), V(1, 0.5, 0.5)}, kA, Contact::kSegment));
-  p.push_back(general("degenerate both: segments crossing", "degenerate",
-                      {V(0, 0, 0), V(2, 0, 0), V(1, 0, 0)}, {V(1, -1, 0), V(1, 1, 0), V(1, 0.5, 0)},
-                      Contact::kSegment));
-  p.push_back(general("degenerate both: parallel segments", "degenerate",
-                      {V(0, 0, 0), V(2, 0, 0), V(1, 0, 0)}, {V(0, 1, 0), V(2, 1, 0), V(1, 1, 0)},
-                      Contact::kDisjoint));
-  p.push_back(general("degenerate both: collinear overlapping segments", "degenerate",
-                      {V(0, 0, 0), V(2, 2, 2), V(1, 1, 1)},
-                      {V(1.5, 1.5, 1.5), V(3, 3, 3), V(4, 4, 4)}, Contact::kSegment));
-  return p;
+  std::vector<DesignedPair> pairs;
+  std::istringstream lines{std::string(kDesignedPairs)};
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty()) {
+      continue;
+    }
+    std::istringstream fields(line);
+    std::string key;
+    fields >> key;
+    if (key == "A" || key == "B") {
+      std::array<Vec3, 3>& t = key == "A" ? pairs.back().pair.a : pairs.back().pair.b;
+      for (Vec3& v : t) {
+        char comma = 0;
+        fields >> v.x() >> v.y() >> v.z();
+        fields >> comma;  // "," between vertices
+      }
+      continue;
+    }
+    DesignedPair d;
+    d.figure_case = key;
+    std::string expected;
+    fields >> expected;
+    d.expected = expected == "disjoint"  ? Contact::kDisjoint
+                 : expected == "segment" ? Contact::kSegment
+                                         : Contact::kCoplanar;
+    std::getline(fields >> std::ws, d.label);
+    d.pair.a = kA;
+    pairs.push_back(std::move(d));
+  }
+  return pairs;
 }
 
 std::vector<TriPair> random_pairs(std::size_t count, std::uint64_t seed) {

@@ -194,6 +194,27 @@ TEST(TriTriProjection, AgreesWithTheExactOracleOnNearDegenerateFamilies) {
             << ", orient2d " << stats.orient2d_fallbacks << "\n";
 }
 
+TEST(TriTriProjection, AnswersDoNotDependOnAPowerOfTwoScale) {
+  // Scaling every coordinate by 2^k is exact, so the exact answer cannot change; the scales
+  // take the floating-point bounds from their usual range to overflow (2^500) and underflow
+  // (2^-500), where only the exact paths may decide.
+  const LabelledSet& set = random_set();
+  const std::size_t count = std::min<std::size_t>(set.pairs->size(), 20000);
+  for (const int exponent : {-500, -60, 60, 500}) {
+    std::size_t disagreements = 0;
+    for (std::size_t i = 0; i < count; ++i) {
+      TriPair scaled = (*set.pairs)[i];
+      for (auto* t : {&scaled.a, &scaled.b}) {
+        for (Vec3& v : *t) {
+          v = v * std::ldexp(1.0, exponent);
+        }
+      }
+      disagreements += run(tri_tri_projection, scaled).intersect() != set.truth[i] ? 1 : 0;
+    }
+    EXPECT_EQ(disagreements, 0u) << "scale 2^" << exponent;
+  }
+}
+
 TEST(TriTriProjection, IsSymmetricAndInvariantUnderVertexRelabelling) {
   // Every cyclic and reversed order of A's and B's vertices gives the same contact.
   for (const DesignedPair& d : designed_pairs()) {

@@ -24,12 +24,7 @@ inline constexpr std::size_t kFamilyPairCount = 5'000;
 inline constexpr std::uint64_t kRandomSeed = 20240611;
 inline constexpr std::uint64_t kFamilySeed = 7;
 
-using TriTriFunction = TriTriResult (*)(const Eigen::Vector3d&,
-                                        const Eigen::Vector3d&,
-                                        const Eigen::Vector3d&,
-                                        const Eigen::Vector3d&,
-                                        const Eigen::Vector3d&,
-                                        const Eigen::Vector3d&);
+using TriTriFunction = TriTriTest*;
 
 inline TriTriResult run(TriTriFunction test, const TriPair& pair) {
   return test(pair.a[0], pair.a[1], pair.a[2], pair.b[0], pair.b[1], pair.b[2]);

@@ -60,6 +60,7 @@ constexpr const char* kFullScene = R"({
     ]
   },
   "limits": { "max_speed": 20.0, "max_displacement": 3.0 },
+  "requirements": { "steps_per_second": 30, "accuracy": 0.1, "outputs": ["surface", "contact_force"] },
   "models": { "mass_spring": { "stiffness": 180.0, "damping": 5.0 }, "other": {} }
 })";
 
@@ -151,6 +152,12 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.instrument->start, b.instrument->start);
     EXPECT_EQ(a.instrument->release, b.instrument->release);
     EXPECT_EQ(a.instrument->contact_margin, b.instrument->contact_margin);
+  }
+  ASSERT_EQ(a.requirements.has_value(), b.requirements.has_value());
+  if (a.requirements) {
+    EXPECT_EQ(a.requirements->steps_per_second, b.requirements->steps_per_second);
+    EXPECT_EQ(a.requirements->accuracy, b.requirements->accuracy);
+    EXPECT_EQ(a.requirements->outputs, b.requirements->outputs);
   }
   EXPECT_EQ(a.limits.max_speed, b.limits.max_speed);
   EXPECT_EQ(a.limits.max_displacement, b.limits.max_displacement);
@@ -286,7 +293,7 @@ TEST_F(SceneLoader, RejectsNegativeYoungModulus) {
 TEST_F(SceneLoader, RejectsAnUnknownTopLevelKey) {
   EXPECT_EQ(error_for(R"({"gravty": [0, 0, -9.81]})"),
             "/gravty: unknown key (known here: description, fixed, grasp, gravity, instrument, "
-            "limits, material, mesh, models, name, time)");
+            "limits, material, mesh, models, name, requirements, time)");
 }
 
 TEST_F(SceneLoader, RejectsAnUnknownNestedKey) {
@@ -408,6 +415,21 @@ TEST_F(SceneLoader, RejectsANegativePlaneTolerance) {
 TEST_F(SceneLoader, RejectsANegativeFixedVertexIndex) {
   EXPECT_EQ(error_for(R"({"fixed": {"vertices": [0, -1]}})"),
             "/fixed/vertices/1: expected an integer in [0, 2147483647], got -1");
+}
+
+TEST_F(SceneLoader, ReadsRequirementsWithTheirDefaults) {
+  const Scene scene = load(R"({"requirements": {"steps_per_second": 60, "accuracy": 0.05}})");
+  ASSERT_TRUE(scene.requirements.has_value());
+  EXPECT_EQ(scene.requirements->steps_per_second, 60.0);
+  EXPECT_EQ(scene.requirements->accuracy, 0.05);
+  EXPECT_EQ(scene.requirements->outputs, std::vector<std::string>{"surface"});
+  EXPECT_FALSE(load("{}").requirements.has_value());
+}
+
+TEST_F(SceneLoader, RejectsAnUnknownRequiredOutput) {
+  EXPECT_EQ(error_for(R"({"requirements": {"outputs": ["surface", "colour"]}})"),
+            "/requirements/outputs: expected a non-empty array of \"surface\", \"volume\", "
+            "\"contact_force\", got [\"surface\",\"colour\"]");
 }
 
 TEST_F(SceneLoader, RejectsAnInstrumentKeyframeWithoutAPosition) {

@@ -1,0 +1,492 @@
+// SPDX-License-Identifier: MIT
+#include "harness/stability.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_validation.h"
+#include "harness/torture_shapes.h"
+#include "models/model_registry.h"
+#include "scenes/scene_regions.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace softbench::harness {
+namespace {
+
+std::vector<double> halving_time_steps(double largest, int count) {
+  std::vector<double> steps;
+  for (int k = 0; k < count; ++k) {
+    steps.push_back(largest / std::pow(2.0, k));
+  }
+  return steps;
+}
+
+int steps_for(double duration, double dt, int cap) {
+  const double steps = std::ceil(duration / dt - 1e-9);
+  return static_cast<int>(std::clamp(steps, 1.0, static_cast<double>(cap)));
+}
+
+// "1/60 s" for the halving steps, else seconds.
+std::string time_step_label(double dt) {
+  std::ostringstream out;
+  const double inverse = 1.0 / dt;
+  if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
+    out << "1/" << std::llround(inverse) << " s";
+  } else {
+    out << dt << " s";
+  }
+  return out.str();
+}
+
+std::string verdict_line(const RunVerdict& verdict, double recovered_below) {
+  std::ostringstream out;
+  out << (verdict.status == RunStatus::kStable     ? "stable"
+          : verdict.status == RunStatus::kUnstable ? "UNSTABLE (" + verdict.failure + ")"
+                                                   : "TIMED OUT (" + verdict.failure + ")");
+  if (std::isfinite(verdict.residual)) {
+    out << ", " << (verdict.recovered(recovered_below) ? "recovered" : "NOT recovered")
+        << " (residual " << std::setprecision(3) << 100.0 * verdict.residual << "%)";
+  }
+  out << ", max inverted tets " << verdict.max_inverted_tets << ", " << std::fixed
+      << std::setprecision(1) << verdict.wall_seconds << " s";
+  return out.str();
+}
+
+nlohmann::json parameter_block(const scenes::Scene& scene, const std::string& model) {
+  const auto block = scene.model_parameters.find(model);
+  if (block == scene.model_parameters.end() || block->second.is_null()) {
+    return nlohmann::json::object();
+  }
+  return block->second;
+}
+
+// The scene's loading, long enough to watch the recovery window after its release.
+int loading_steps(const scenes::Scene& scene, const StabilitySettings& settings) {
+  double duration = scene.duration;
+  if (std::isfinite(scene.release_time())) {
+    duration = std::max(duration, scene.release_time() + settings.recovery_window);
+  }
+  return steps_for(duration, scene.dt, settings.max_steps_per_run);
+}
+
+TortureResult run_case(TortureCase which,
+                       const ModelInfo& info,
+                       const scenes::Scene& scene,
+                       const TetMesh& mesh,
+                       const std::vector<int>& fixed,
+                       const nlohmann::json& params,
+                       const ParamSource& source,
+                       const StabilitySettings& settings,
+                       const RunBounds& bounds) {
+  TortureResult result;
+  result.which = which;
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  std::optional<Eigen::Matrix3Xd> tortured;
+  switch (which) {
+    case TortureCase::kSquash:
+      tortured = squashed_to_plane(rest);
+      result.note =
+          "every vertex projected onto the plane through the centroid normal to the "
+          "bounding box's shortest axis";
+      break;
+    case TortureCase::kCollapse: {
+      tortured = collapsed_to_point(rest, settings.collapse_radius, settings.seed);
+      std::ostringstream note;
+      note << "every vertex moved to a random point (seed " << settings.seed
+           << ") of a ball of radius " << settings.collapse_radius
+           << " x the bbox diagonal around the centroid";
+      result.note = note.str();
+      break;
+    }
+    case TortureCase::kScramble: {
+      tortured = scrambled(rest, settings.seed);
+      std::ostringstream note;
+      note << "every vertex moved to a random point (seed " << settings.seed
+           << ") of the rest bounding box";
+      result.note = note.str();
+      break;
+    }
+    case TortureCase::kStretch: {
+      tortured = stretched(rest, settings.stretch_factor);
+      std::ostringstream note;
+      note << "stretched " << settings.stretch_factor
+           << "x along the bounding box's longest axis about the centroid";
+      result.note = note.str();
+      break;
+    }
+    case TortureCase::kIncompressible: {
+      scenes::Scene changed = scene;
+      changed.material.poisson_ratio = settings.incompressible_poisson;
+      std::ostringstream note;
+      note << "the scene's loading with Poisson's ratio " << settings.incompressible_poisson;
+      result.note = note.str();
+      const std::unique_ptr<SoftBody> body = info.create(mesh, changed.material, params, source);
+      result.verdict =
+          run_scene_loading(*body, changed, mesh, loading_steps(changed, settings), bounds);
+      result.run = true;
+      break;
+    }
+    case TortureCase::kSliver: {
+      std::vector<int> keep = fixed;
+      const std::vector<int> grasped = scenes::grasped_vertices(scene, mesh);
+      keep.insert(keep.end(), grasped.begin(), grasped.end());
+      const std::optional<Sliver> sliver = flatten_one_tet(mesh, keep, settings.sliver_quality);
+      if (!sliver) {
+        result.note = "no tet could be flattened without inverting a neighbour";
+        return result;
+      }
+      std::ostringstream note;
+      note << "the scene's loading on the mesh with tet " << sliver->tet << " flattened (vertex "
+           << sliver->vertex << " moved " << std::setprecision(3) << 1000.0 * sliver->moved
+           << " mm toward its opposite face): radius ratio " << sliver->quality
+           << ", worst other tet around that vertex " << sliver->neighbour_quality;
+      result.note = note.str();
+      const std::unique_ptr<SoftBody> body =
+          info.create(sliver->mesh, scene.material, params, source);
+      result.verdict =
+          run_scene_loading(*body, scene, sliver->mesh, loading_steps(scene, settings), bounds);
+      result.run = true;
+      break;
+    }
+  }
+  if (tortured) {
+    const std::unique_ptr<SoftBody> body = info.create(mesh, scene.material, params, source);
+    result.verdict = run_torture(
+        *body, mesh, fixed, *tortured, scene.dt,
+        steps_for(settings.recovery_window, scene.dt, settings.max_steps_per_run), bounds);
+    result.run = true;
+  }
+  result.recovered = result.verdict.recovered(settings.recovered_below);
+  return result;
+}
+
+const ModelStability* find_model(const std::vector<ModelStability>& models,
+                                 const std::string& name) {
+  for (const ModelStability& model : models) {
+    if (model.model == name) {
+      return &model;
+    }
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+StiffnessAxis stiffness_axis(const std::string& model,
+                             const std::vector<double>& young_moduli,
+                             const std::vector<double>& unitless) {
+  StiffnessAxis axis;
+  if (model == "shape_matching") {
+    axis.parameter = "alpha";
+    axis.material = false;
+    axis.values = unitless;
+    axis.note = "alpha (pull toward the goal per step); shape matching ignores Young's modulus";
+  } else if (model == "bullet_softbody") {
+    axis.parameter = "stiffness";
+    axis.material = false;
+    axis.values = unitless;
+    axis.note = "kLST (link stiffness, no unit); btSoftBody's links ignore Young's modulus";
+  } else {
+    axis.parameter = "young_modulus";
+    axis.unit = "Pa";
+    axis.values = young_moduli;
+    axis.note = "the material's Young's modulus";
+    if (model == "mass_spring") {
+      axis.fixed_params = {{"stiffness_from", "young_modulus"}};
+      axis.note += ", springs derived from it (stiffness_from = young_modulus)";
+    }
+  }
+  std::sort(axis.values.begin(), axis.values.end());
+  return axis;
+}
+
+std::string torture_name(TortureCase which) {
+  switch (which) {
+    case TortureCase::kSquash:
+      return "squash_to_plane";
+    case TortureCase::kCollapse:
+      return "collapse_to_point";
+    case TortureCase::kScramble:
+      return "scramble";
+    case TortureCase::kStretch:
+      return "stretch_3x";
+    case TortureCase::kIncompressible:
+      return "poisson_0.49";
+    case TortureCase::kSliver:
+      return "sliver_tet";
+  }
+  return "?";
+}
+
+bool is_large_deformation(TortureCase which) {
+  return which == TortureCase::kSquash || which == TortureCase::kCollapse
+         || which == TortureCase::kScramble || which == TortureCase::kStretch;
+}
+
+StabilitySettings default_stability_settings() {
+  StabilitySettings settings;
+  settings.young_moduli = {1e2, 1e3, 1e4, 1e5, 1e6};
+  settings.unitless = {0.01, 0.0316, 0.1, 0.316, 1.0};
+  settings.time_steps = halving_time_steps(1.0 / 30.0, 8);  // down to 1/3840 s
+  return settings;
+}
+
+StabilitySettings quick_stability_settings() {
+  StabilitySettings settings;
+  settings.young_moduli = {1e3, 1e5};
+  settings.unitless = {0.1, 1.0};
+  settings.time_steps = halving_time_steps(1.0 / 30.0, 3);  // down to 1/120 s
+  settings.map_duration = 0.25;
+  settings.recovery_window = 2.0;
+  settings.max_wall_seconds_per_run = 10.0;
+  return settings;
+}
+
+std::string to_string(CellStatus status) {
+  switch (status) {
+    case CellStatus::kStable:
+      return "stable";
+    case CellStatus::kUnstable:
+      return "unstable";
+    case CellStatus::kTimedOut:
+      return "timed_out";
+    case CellStatus::kNotRun:
+      return "not_run";
+  }
+  return "?";
+}
+
+MapRow scan_time_steps(double value,
+                       const std::vector<double>& time_steps,
+                       const std::function<RunVerdict(double dt)>& run) {
+  MapRow row;
+  row.value = value;
+  bool done = false;
+  for (const double dt : time_steps) {
+    MapCell cell;
+    cell.dt = dt;
+    if (!done) {
+      cell.verdict = run(dt);
+      switch (cell.verdict.status) {
+        case RunStatus::kStable:
+          cell.status = CellStatus::kStable;
+          row.max_stable_dt = dt;
+          done = true;
+          break;
+        case RunStatus::kUnstable:
+          cell.status = CellStatus::kUnstable;
+          break;
+        case RunStatus::kTimedOut:
+          cell.status = CellStatus::kTimedOut;
+          done = true;
+          break;
+      }
+    }
+    row.cells.push_back(cell);
+  }
+  return row;
+}
+
+ModelStability model_stability(const scenes::Scene& scene,
+                               const TetMesh& mesh,
+                               const std::string& model,
+                               const StabilitySettings& settings,
+                               std::ostream* progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const ModelInfo& info = builtin_models().at(model);
+  const ParamSource source{scene.source.string(), "/models/" + model};
+  const std::vector<int> fixed = scenes::fixed_vertices(scene, mesh);
+  const RunBounds bounds{scene.limits, settings.max_wall_seconds_per_run};
+  // The map hangs the body under gravity; a scene without gravity gets the usual one.
+  const Eigen::Vector3d gravity = scene.gravity.acceleration.squaredNorm() > 0.0
+                                      ? scene.gravity.acceleration
+                                      : Eigen::Vector3d(0.0, 0.0, -9.81);
+
+  ModelStability result;
+  result.model = model;
+  result.params = parameter_block(scene, model);
+  result.axis = stiffness_axis(model, settings.young_moduli, settings.unitless);
+  for (const double value : result.axis.values) {
+    Material material = scene.material;
+    nlohmann::json params = result.params;
+    params.update(result.axis.fixed_params);
+    if (result.axis.material) {
+      material.young_modulus = value;
+    } else {
+      params[result.axis.parameter] = value;
+      params.erase("calibrated");  // a fit of another stiffness no longer applies
+    }
+    result.map.push_back(scan_time_steps(value, settings.time_steps, [&](double dt) {
+      const std::unique_ptr<SoftBody> body = info.create(mesh, material, params, source);
+      return run_hanging(*body, mesh, fixed, gravity, dt,
+                         steps_for(settings.map_duration, dt, settings.max_steps_per_run), bounds);
+    }));
+    if (progress != nullptr) {
+      const MapRow& row = result.map.back();
+      const bool timed_out = std::any_of(row.cells.begin(), row.cells.end(), [](const MapCell& c) {
+        return c.status == CellStatus::kTimedOut;
+      });
+      *progress << model << ": " << result.axis.parameter << " = " << value
+                << (result.axis.unit.empty() ? "" : " " + result.axis.unit) << ": max stable dt "
+                << (row.max_stable_dt ? time_step_label(*row.max_stable_dt)
+                    : timed_out       ? "unknown (a run timed out)"
+                                      : "none")
+                << "\n";
+    }
+  }
+  for (const TortureCase which : settings.cases) {
+    result.torture.push_back(
+        run_case(which, info, scene, mesh, fixed, result.params, source, settings, bounds));
+    if (progress != nullptr) {
+      const TortureResult& torture = result.torture.back();
+      *progress << model << ": " << torture_name(which) << ": "
+                << (torture.run ? verdict_line(torture.verdict, settings.recovered_below)
+                                : "not run (" + torture.note + ")")
+                << "\n";
+    }
+  }
+  result.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+std::vector<Claim> check_claims(const std::vector<ModelStability>& models,
+                                const StabilitySettings& settings) {
+  std::vector<Claim> claims;
+  {
+    Claim claim;
+    claim.statement = "Shape matching is unconditionally stable";
+    if (const ModelStability* model = find_model(models, "shape_matching")) {
+      int runs = 0;
+      std::vector<std::string> failures;
+      std::vector<std::string> timeouts;
+      for (const MapRow& row : model->map) {
+        for (const MapCell& cell : row.cells) {
+          runs += cell.status != CellStatus::kNotRun;
+          std::ostringstream where;
+          where << "alpha " << row.value << " at dt " << time_step_label(cell.dt);
+          if (cell.status == CellStatus::kUnstable) {
+            failures.push_back(where.str() + " (" + cell.verdict.failure + ")");
+          } else if (cell.status == CellStatus::kTimedOut) {
+            timeouts.push_back(where.str());
+          }
+        }
+      }
+      int cases = 0;
+      for (const TortureResult& torture : model->torture) {
+        cases += torture.run;
+        if (torture.run && torture.verdict.status == RunStatus::kUnstable) {
+          failures.push_back(torture_name(torture.which) + " (" + torture.verdict.failure + ")");
+        } else if (torture.run && torture.verdict.status == RunStatus::kTimedOut) {
+          timeouts.push_back(torture_name(torture.which));
+        }
+      }
+      claim.holds = failures.empty();
+      std::ostringstream evidence;
+      if (failures.empty()) {
+        evidence << "stable in all " << runs << " map runs (from the largest dt, "
+                 << time_step_label(settings.time_steps.front()) << ", at every alpha) and all "
+                 << cases << " torture cases";
+      } else {
+        evidence << "unstable in:";
+        for (const std::string& failure : failures) {
+          evidence << " " << failure << (&failure == &failures.back() ? "" : ";");
+        }
+      }
+      if (!timeouts.empty()) {
+        evidence << "; timed out (not shown either way):";
+        for (const std::string& timeout : timeouts) {
+          evidence << " " << timeout;
+        }
+      }
+      claim.evidence = evidence.str();
+    } else {
+      claim.evidence = "shape_matching was not run";
+    }
+    claims.push_back(claim);
+  }
+  {
+    Claim claim;
+    claim.statement = "Mass-spring fails at large deformation";
+    if (const ModelStability* model = find_model(models, "mass_spring")) {
+      std::vector<std::string> failed;
+      std::vector<std::string> survived;
+      for (const TortureResult& torture : model->torture) {
+        if (!torture.run || !is_large_deformation(torture.which)) {
+          continue;
+        }
+        std::ostringstream line;
+        line << torture_name(torture.which);
+        if (!torture.verdict.stable()) {
+          line << " (" << torture.verdict.failure << ")";
+          failed.push_back(line.str());
+        } else if (!torture.recovered) {
+          line << " (residual " << std::setprecision(3) << 100.0 * torture.verdict.residual
+               << "% after " << settings.recovery_window << " s)";
+          failed.push_back(line.str());
+        } else {
+          survived.push_back(line.str());
+        }
+      }
+      if (failed.empty() && survived.empty()) {
+        claim.evidence = "no large-deformation torture case was run";
+      } else {
+        claim.holds = !failed.empty();
+        std::ostringstream evidence;
+        evidence << "fails to recover from:";
+        for (const std::string& item : failed) {
+          evidence << " " << item << (&item == &failed.back() ? "" : ";");
+        }
+        if (failed.empty()) {
+          evidence << " none";
+        }
+        evidence << "; recovers from:";
+        for (const std::string& item : survived) {
+          evidence << " " << item << (&item == &survived.back() ? "" : ",");
+        }
+        if (survived.empty()) {
+          evidence << " none";
+        }
+        claim.evidence = evidence.str();
+      }
+    } else {
+      claim.evidence = "mass_spring was not run";
+    }
+    claims.push_back(claim);
+  }
+  return claims;
+}
+
+StabilityReport run_stability(const scenes::Scene& scene, const StabilityOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<std::string> names =
+      options.models.empty() ? builtin_models().names() : options.models;
+  for (const std::string& name : names) {
+    try {
+      builtin_models().at(name);  // an unknown name fails before any model runs
+    } catch (const InputError& error) {
+      throw InputError("--model " + name + ": " + error.what());
+    }
+  }
+  const TetMesh mesh = make_tet_mesh(read_mesh(scene.mesh));
+  StabilityReport report;
+  report.scene = scene.name;
+  report.scene_file = scene.source.string();
+  report.vertices = mesh.num_vertices();
+  report.tets = mesh.num_tets();
+  report.scene_dt = scene.dt;
+  report.settings = options.settings;
+  for (const std::string& name : names) {
+    report.models.push_back(model_stability(scene, mesh, name, options.settings, options.progress));
+  }
+  report.claims = check_claims(report.models, options.settings);
+  report.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+}  // namespace softbench::harness

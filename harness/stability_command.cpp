@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: MIT
+#include "harness/stability_command.h"
+
+#include "harness/python_plot.h"
+#include "harness/stability.h"
+#include "harness/stability_report.h"
+#include "scenes/scene.h"
+
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace softbench::harness {
+namespace {
+
+struct StabilityArguments {
+  std::string scene;
+  std::vector<std::string> models;
+  std::string out_dir;
+  bool quick = false;
+  double recovery_window = 0.0;
+  double max_wall = 0.0;
+  bool no_plots = false;
+};
+
+void stability(const StabilityArguments& arguments) {
+  const scenes::Scene scene = scenes::load_scene(arguments.scene);
+  const std::filesystem::path out_dir =
+      arguments.out_dir.empty() ? std::filesystem::path("out") / (scene.name + "_stability")
+                                : std::filesystem::path(arguments.out_dir);
+  StabilityOptions options;
+  options.models = arguments.models;
+  options.settings = arguments.quick ? quick_stability_settings() : default_stability_settings();
+  if (arguments.recovery_window > 0.0) {
+    options.settings.recovery_window = arguments.recovery_window;
+  }
+  if (arguments.max_wall > 0.0) {
+    options.settings.max_wall_seconds_per_run = arguments.max_wall;
+  }
+  options.progress = &std::cerr;
+  const StabilityReport report = run_stability(scene, options);
+  write_stability(out_dir, report);
+  std::cout << stability_markdown(report) << "\nwrote " << (out_dir / "stability.md").string()
+            << " and " << (out_dir / "stability.json").string() << "\n";
+  if (!arguments.no_plots) {
+    const PlotOutcome plots = run_plot_script("plot_stability.py", "SOFTBENCH_STABILITY_SCRIPT",
+                                              out_dir / "stability.json", out_dir);
+    if (plots.plotted) {
+      for (const std::filesystem::path& file : plots.files) {
+        std::cout << "wrote " << file.string() << "\n";
+      }
+    } else {
+      std::cerr << "softbench: warning: " << plots.message << "\n";
+    }
+  }
+  std::cerr << "stability took " << std::fixed << std::setprecision(1) << report.wall_seconds
+            << " s\n";
+}
+
+}  // namespace
+
+void add_stability_command(CLI::App& app) {
+  auto arguments = std::make_shared<StabilityArguments>();
+  CLI::App* command = app.add_subcommand(
+      "stability",
+      "Map each model's largest stable time step against stiffness and run the torture cases "
+      "(squash, collapse, scramble, stretch 3x, nu = 0.49, sliver tet); write stability.md, "
+      "stability.json and a PNG heat map per model, with the thesis's claims checked");
+  command->add_option("scene", arguments->scene, "scene file (.json)")->required();
+  command
+      ->add_option("--model", arguments->models,
+                   "model to run (repeatable; default: every registered model)")
+      ->allow_extra_args(false);
+  command->add_option("--out", arguments->out_dir,
+                      "output folder (default: out/<scene>_stability)");
+  command->add_flag("--quick", arguments->quick,
+                    "a small grid (2 stiffnesses, dt 1/30..1/120 s, short runs) for tests and CI");
+  command
+      ->add_option("--recovery-window", arguments->recovery_window,
+                   "s of recovery after each torture (default: 10, with --quick 2)")
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--max-wall", arguments->max_wall,
+                   "s of wall time per run before it is reported as timed out (default: 60, "
+                   "with --quick 10)")
+      ->check(CLI::PositiveNumber);
+  command->add_flag("--no-plots", arguments->no_plots, "write stability.md and .json only");
+  command->callback([arguments] { stability(*arguments); });
+}
+
+}  // namespace softbench::harness

@@ -1,0 +1,212 @@
+// SPDX-License-Identifier: MIT
+#include "harness/sweep.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_io.h"
+#include "harness/recommend.h"
+#include "scenes/scene.h"
+#include "tests/test_meshes.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <set>
+
+namespace softbench::harness {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(SweepAxis, ParsesFractionsIntegersAndStrings) {
+  const SweepAxis dt = parse_sweep_axis("model.dt=1/30,1/60,0.005");
+  EXPECT_EQ(dt.model, "model");
+  EXPECT_EQ(dt.key, "dt");
+  ASSERT_EQ(dt.values.size(), 3u);
+  EXPECT_DOUBLE_EQ(dt.values[0].get<double>(), 1.0 / 30.0);
+  EXPECT_DOUBLE_EQ(dt.values[2].get<double>(), 0.005);
+  const SweepAxis clusters = parse_sweep_axis("shape_matching.clusters=1,10,50");
+  EXPECT_TRUE(clusters.values[1].is_number_integer());  // integer parameters reject 10.0
+  EXPECT_EQ(parse_sweep_axis("shape_matching.type=linear,quadratic").values[1], "quadratic");
+}
+
+TEST(SweepAxis, RejectsMalformedArguments) {
+  for (const char* bad : {"dt=1/30", "model.dt", ".dt=1", "model.=1", "model.dt=", "model.dt=1,,2",
+                          "model.dt=0", "model.dt=fast"}) {
+    EXPECT_THROW(parse_sweep_axis(bad), InputError) << bad;
+  }
+}
+
+// A 10 x 2 x 2 cm bar clamped at one end, sagging under gravity for half a second.
+class SweepTest : public ::testing::Test {
+ protected:
+  SweepTest() { write_msh(dir_.path() / "bar.msh", test::box_tets(5, 1, 1, 0.1, 0.02, 0.02)); }
+
+  scenes::Scene scene() const {
+    return scenes::load_scene(dir_.write("bar.json", R"({
+      "name": "bar",
+      "mesh": "bar.msh",
+      "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
+      "gravity": [0, 0, -9.81],
+      "time": {"dt": 0.02, "duration": 0.4},
+      "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
+      "requirements": {"steps_per_second": 10, "accuracy": 0.05},
+      "models": {"corotational_fem": {"rayleigh_mass": 2.0},
+                 "mass_spring": {"stiffness_from": "young_modulus", "damping": 0.5}}
+    })"));
+  }
+
+  test::TempDir dir_;
+};
+
+TEST_F(SweepTest, GridIsTheProductOfTheAxesThatApplyToEachModel) {
+  const std::vector<SweepPoint> points = sweep_grid(
+      scene(),
+      {parse_sweep_axis("model.dt=1/50,1/100"), parse_sweep_axis("mass_spring.damping=0.1,0.5,1")},
+      {}, "neo_hookean");
+  int fem = 0;
+  int springs = 0;
+  std::set<std::string> ids;
+  for (const SweepPoint& point : points) {
+    (point.model == "corotational_fem" ? fem : springs) += 1;
+    ids.insert(point.id);
+    EXPECT_EQ(point.dt, point.settings["dt"].get<double>());
+  }
+  EXPECT_EQ(fem, 2);
+  EXPECT_EQ(springs, 6);
+  EXPECT_EQ(ids.size(), points.size());
+  // The same sweep names its runs the same way (that is what makes it resumable).
+  EXPECT_EQ(sweep_grid(scene(), {parse_sweep_axis("model.dt=1/50,1/100")}, {}, "")[1].id,
+            points[1].id);
+}
+
+TEST_F(SweepTest, GridLeavesOutTheReferenceAndRejectsAnAxisForAnotherModel) {
+  for (const SweepPoint& point : sweep_grid(scene(), {}, {}, "mass_spring")) {
+    EXPECT_NE(point.model, "mass_spring");
+  }
+  try {
+    sweep_grid(scene(), {parse_sweep_axis("shape_matching.clusters=1,2")}, {}, "");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("shape_matching is not among the swept models"));
+  }
+}
+
+TEST(SweepAccuracy, IsZeroOnTheReferenceAndScalesWithTheOffset) {
+  const Eigen::Matrix3Xd rest = Eigen::Matrix3Xd::Zero(3, 4);
+  ReferenceRun reference;
+  reference.times = {0.5, 1.0};
+  reference.positions = {Eigen::Matrix3Xd::Constant(3, 4, 0.1),
+                         Eigen::Matrix3Xd::Constant(3, 4, 0.2)};
+  reference.volumes = {1.0, 1.0};
+  reference.peak_tool_force = 2.0;
+  ModelRun run;
+  run.peak_tool_force = 3.0;
+  for (std::size_t i = 0; i < 2; ++i) {
+    run.snapshots.push_back({reference.times[i], reference.positions[i], 1.0});
+  }
+  Accuracy same = accuracy_against(run, reference, rest);
+  EXPECT_EQ(same.rms_error, 0.0);
+  EXPECT_EQ(same.volume_error, 0.0);
+  EXPECT_DOUBLE_EQ(*same.peak_force_error, 0.5);
+  // Off by 10% of the reference's displacement at both times.
+  run.snapshots[0].positions *= 1.1;
+  run.snapshots[1].positions *= 1.1;
+  run.snapshots[1].volume = 1.2;
+  const Accuracy off = accuracy_against(run, reference, rest);
+  EXPECT_NEAR(off.rms_error, 0.1, 1e-12);
+  EXPECT_NEAR(off.max_error, 0.1, 1e-12);
+  EXPECT_NEAR(off.volume_error, 0.2, 1e-12);
+  run.snapshots.pop_back();  // blew up before the last time
+  EXPECT_TRUE(std::isinf(accuracy_against(run, reference, rest).rms_error));
+}
+
+SweepRecord record(const std::string& model, double speed, double error, bool stable = true) {
+  SweepRecord r;
+  r.point.model = model;
+  r.point.id = model + std::to_string(speed);
+  r.point.settings = nlohmann::json::object();
+  r.steps_per_second = speed;
+  r.accuracy.rms_error = error;
+  r.accuracy.volume_error = error;
+  r.stable = stable;
+  return r;
+}
+
+TEST(SweepTable, ParetoFrontKeepsOnlyUnbeatenRunsPerModel) {
+  const std::vector<SweepRecord> records = {record("a", 100, 0.1), record("a", 50, 0.2),
+                                            record("a", 10, 0.01), record("b", 1000, 0.5),
+                                            record("b", 2000, 0.4, false)};
+  std::set<std::string> front;
+  for (const SweepRecord& r : pareto_front(records)) {
+    front.insert(r.point.id);
+  }
+  EXPECT_EQ(front, (std::set<std::string>{"a100.000000", "a10.000000", "b1000.000000"}));
+  EXPECT_EQ(fastest_within(records, 0.05)->point.id, "a10.000000");
+  EXPECT_EQ(fastest_within(records, 0.6)->point.id, "b1000.000000");  // the unstable one is out
+  EXPECT_FALSE(fastest_within(records, 0.001).has_value());
+}
+
+TEST(Recommend, PicksTheFastestRunMeetingEveryRequirementAndSaysWhatOthersMiss) {
+  scenes::Requirements requirements;
+  requirements.steps_per_second = 60;
+  requirements.accuracy = 0.05;
+  const std::vector<SweepRecord> records = {record("fem", 300, 0.02), record("fem", 900, 0.08),
+                                            record("springs", 2000, 0.3),
+                                            record("slow", 20, 0.001)};
+  const Recommendation result = recommend(requirements, records);
+  ASSERT_TRUE(result.choice.has_value());
+  EXPECT_EQ(result.choice->point.id, "fem300.000000");
+  EXPECT_THAT(result.explanation, HasSubstr("position error 30% > 5%"));
+  EXPECT_THAT(result.explanation, HasSubstr("20 steps/s < 60"));
+  requirements.outputs = {"contact_force"};
+  EXPECT_THAT(shortfall(records[0], requirements), HasSubstr("no contact force"));
+  requirements.steps_per_second = 1e6;
+  EXPECT_FALSE(recommend(requirements, records).choice.has_value());
+}
+
+TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
+  SweepOptions options;
+  options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
+  options.models = {"corotational_fem"};
+  // The reference is the same model at dt / 2 = 0.01 s: the dt = 1/100 run is that very
+  // computation (error 0), the dt = 1/50 one is not.
+  options.reference.model = "corotational_fem";
+  options.reference.substeps = 2;
+  options.reference.times = 4;
+  options.out_dir = dir_.path() / "full";
+  const std::vector<SweepRecord> records = run_sweep(scene(), options);
+  ASSERT_EQ(records.size(), 2u);
+  const SweepRecord& coarse = records[0].point.dt > records[1].point.dt ? records[0] : records[1];
+  const SweepRecord& fine = records[0].point.dt > records[1].point.dt ? records[1] : records[0];
+  EXPECT_LT(fine.accuracy.rms_error, 1e-9);
+  EXPECT_GT(coarse.accuracy.rms_error, 1e-4);
+  EXPECT_GT(coarse.steps_per_second, 0.0);
+
+  // Resuming runs nothing: a record file left alone keeps its (edited) contents.
+  const auto file = options.out_dir / "runs" / (coarse.point.id + ".json");
+  nlohmann::json edited = to_json(coarse);
+  edited["steps_per_second"] = 1.0;
+  std::ofstream(file) << edited.dump();
+  EXPECT_EQ(
+      run_sweep(scene(), options)[records[0].point.id == coarse.point.id ? 0 : 1].steps_per_second,
+      1.0);
+
+  // Two shards run disjoint halves; merged they are the whole sweep.
+  std::vector<std::filesystem::path> shards;
+  for (int shard = 0; shard < 2; ++shard) {
+    SweepOptions part = options;
+    part.shard = shard;
+    part.shards = 2;
+    part.out_dir = dir_.path() / ("shard" + std::to_string(shard));
+    EXPECT_EQ(run_sweep(scene(), part).size(), 1u);
+    shards.push_back(part.out_dir);
+  }
+  const std::vector<SweepRecord> merged = read_sweep_runs(shards);
+  ASSERT_EQ(merged.size(), 2u);
+  EXPECT_NE(merged[0].point.id, merged[1].point.id);
+}
+
+}  // namespace
+}  // namespace softbench::harness
