@@ -85,12 +85,12 @@ bool is_bullet(const std::string& model) {
 /// Our models, then Bullet's: the step benchmarks at a fixed dt.
 std::vector<Variant> step_variants() {
   std::vector<Variant> result;
-  for (const std::string& name : builtin_models().names()) {
+  for (const std::string& name : builtin_models().default_names()) {
     if (!is_bullet(name)) {
       result.push_back({name, name, scene_block(name), 0.0, false});
     }
   }
-  for (const std::string& name : builtin_models().names()) {
+  for (const std::string& name : builtin_models().default_names()) {
     if (is_bullet(name)) {
       result.push_back({name, name, scene_block(name), 0.0, true});
     }

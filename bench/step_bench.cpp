@@ -44,7 +44,7 @@ struct Variant {
 
 std::vector<Variant> variants() {
   std::vector<Variant> result;
-  for (const std::string& name : builtin_models().names()) {
+  for (const std::string& name : builtin_models().default_names()) {
     result.push_back({name, name, nullptr, kSceneDt});
   }
   result.push_back({"mass_spring:implicit_euler+cg",

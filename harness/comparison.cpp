@@ -231,7 +231,7 @@ std::vector<ModelVariant> resolve_models(const std::vector<std::string>& names) 
   const ModelRegistry& registry = builtin_models();
   std::vector<ModelVariant> rows;
   if (names.empty()) {
-    for (const std::string& name : registry.names()) {
+    for (const std::string& name : registry.default_names()) {
       rows.push_back({name, name, nlohmann::json::object()});
       for (const ModelVariant& variant : known_variants()) {
         if (variant.model == name) {

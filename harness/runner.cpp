@@ -183,7 +183,7 @@ ModelRun run_model(const scenes::Scene& scene,
 
 std::vector<ModelRun> run_scene(const scenes::Scene& scene, const RunOptions& options) {
   const std::vector<std::string> names =
-      options.models.empty() ? builtin_models().names() : options.models;
+      options.models.empty() ? builtin_models().default_names() : options.models;
   for (const std::string& name : names) {
     builtin_models().at(name);  // an unknown name fails before any model runs
   }

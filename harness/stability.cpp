@@ -464,7 +464,7 @@ std::vector<Claim> check_claims(const std::vector<ModelStability>& models,
 StabilityReport run_stability(const scenes::Scene& scene, const StabilityOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<std::string> names =
-      options.models.empty() ? builtin_models().names() : options.models;
+      options.models.empty() ? builtin_models().default_names() : options.models;
   for (const std::string& name : names) {
     try {
       builtin_models().at(name);  // an unknown name fails before any model runs

@@ -50,4 +50,14 @@ std::vector<std::string> ModelRegistry::names() const {
   return result;
 }
 
+std::vector<std::string> ModelRegistry::default_names() const {
+  std::vector<std::string> result;
+  for (const auto& [name, info] : models_) {
+    if (!info.reference) {
+      result.push_back(name);
+    }
+  }
+  return result;
+}
+
 }  // namespace softbench

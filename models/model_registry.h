@@ -36,6 +36,9 @@ struct ModelInfo {
   std::string summary;  ///< one line for `softbench models`
   std::vector<ParameterDoc> parameters;
   ModelFactory create;
+  /// A converged reference (slow): runs only when named, or as the reference of a sweep or an
+  /// accuracy requirement.
+  bool reference = false;
 };
 
 /// The models a build knows, by name. Explicit registration (builtin_models.cpp), not static
@@ -51,6 +54,8 @@ class ModelRegistry {
   const ModelInfo& at(std::string_view name) const;  ///< throws InputError listing known names
   bool contains(std::string_view name) const;
   std::vector<std::string> names() const;  ///< sorted; drives tests, benchmarks and the CLI
+  /// names() less the references: what runs when no model is named.
+  std::vector<std::string> default_names() const;
 
  private:
   std::map<std::string, ModelInfo, std::less<>> models_;

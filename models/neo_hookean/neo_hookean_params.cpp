@@ -65,6 +65,7 @@ ModelInfo neo_hookean_info() {
       "converged reference (slow): stable neo-Hookean tetrahedral FEM, backward Euler solved to "
       "convergence by Newton with line search and per-element eigenvalue projection, CHOLMOD";
   info.parameters = neo_hookean::param_table().docs();
+  info.reference = true;
   info.create = [](const TetMesh& mesh, const Material& material, const nlohmann::json& params,
                    const ParamSource& source) -> std::unique_ptr<SoftBody> {
     const NeoHookeanParams parsed =

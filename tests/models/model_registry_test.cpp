@@ -24,6 +24,14 @@ TEST(ModelRegistry, ListsTheBuiltinModelsSorted) {
   }
 }
 
+TEST(ModelRegistry, DefaultRunsLeaveOutTheSlowReference) {
+  const std::vector<std::string> defaults = builtin_models().default_names();
+  EXPECT_THAT(defaults, ::testing::Contains("corotational_fem"));
+  EXPECT_THAT(defaults, ::testing::Not(::testing::Contains("neo_hookean")));
+  EXPECT_TRUE(builtin_models().at("neo_hookean").reference);
+  EXPECT_EQ(defaults.size() + 1, builtin_models().names().size());
+}
+
 TEST(ModelRegistry, AnUnknownNameListsTheKnownOnes) {
   try {
     builtin_models().at("fem9000");
