@@ -84,7 +84,7 @@ void add_stability_command(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   command
       ->add_option("--max-wall", arguments->max_wall,
-                   "s of wall time per run before it is reported as timed out (default: 60, "
+                   "s of wall time per run before it is reported as timed out (default: 30, "
                    "with --quick 10)")
       ->check(CLI::PositiveNumber);
   command->add_flag("--no-plots", arguments->no_plots, "write stability.md and .json only");

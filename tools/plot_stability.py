@@ -15,17 +15,14 @@ line (softbench reads them).
 import argparse
 import json
 import os
-import re
 import sys
-import tempfile
 import textwrap
 
-import matplotlib
-
-matplotlib.use("Agg")  # no display needed
-import matplotlib.pyplot as plt  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from plot_common import plt, safe_name, save  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
+
 
 # (code, label, colour, text in the cell)
 OUTCOMES = [
@@ -37,29 +34,6 @@ OUTCOMES = [
     ("not_run", "not run", "#ffffff", ""),
 ]
 CODES = {code: index for index, (code, _, _, _) in enumerate(OUTCOMES)}
-
-
-def safe_name(name):
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name)
-
-
-def save(figure, path):
-    """Saves atomically, so a viewer never sees a half-written PNG."""
-    folder = os.path.dirname(os.path.abspath(path))
-    handle, temporary = tempfile.mkstemp(suffix=".png", dir=folder)
-    os.close(handle)
-    try:
-        figure.savefig(temporary, dpi=120, format="png")
-        umask = os.umask(0)  # mkstemp makes the file private: give it the usual mode
-        os.umask(umask)
-        os.chmod(temporary, 0o666 & ~umask)
-        os.replace(temporary, path)
-    except BaseException:
-        os.unlink(temporary)
-        raise
-    finally:
-        plt.close(figure)
-    print(path)
 
 
 def dt_label(dt):
