@@ -8,6 +8,7 @@
 #include "geometry/mesh_topology.h"
 #include "models/corotational_fem/corotational_fem_model.h"
 #include "models/corotational_fem/polar_decomposition.h"
+#include "models/memory_bytes.h"
 
 #include <algorithm>
 #include <array>
@@ -17,25 +18,6 @@
 namespace softbench {
 namespace corotational_fem {
 namespace {
-
-template <class Vector>
-std::size_t bytes_of_elements(const Vector& vector) {
-  return vector.capacity() * sizeof(typename Vector::value_type);
-}
-
-template <class Matrix>
-std::size_t bytes_of(const Matrix& matrix) {
-  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
-}
-
-/// The 4 positions of tet t (columns).
-Matrix34d tet_positions(const Eigen::Matrix3Xd& positions, const Eigen::Matrix4Xi& tets, int t) {
-  Matrix34d x;
-  for (int a = 0; a < 4; ++a) {
-    x.col(a) = positions.col(tets(a, t));
-  }
-  return x;
-}
 
 /// CSR offsets from per-row counts.
 std::vector<int> offsets_from_counts(const std::vector<int>& counts) {

@@ -1,48 +1,16 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "models/linear_tet.h"
 #include "models/material.h"
 
 #include <Eigen/Core>
 
-// One linear (4-node) tetrahedron of the corotational FEM: rest-shape precomputation and the
-// element kernels the model's step is built from (inline: they run once per element per step).
-//
-// Notation (Mueller & Gross 2004; Sifakis & Barbic 2012, "FEM simulation of 3D deformable
-// solids", section 4): rest and current node positions X_a, x_a (a = 0..3);
-// Dm = [X1-X0, X2-X0, X3-X0], Ds = [x1-x0, x2-x0, x3-x0], deformation gradient F = Ds Dm^-1.
-// Shape-function gradients b_a (1/m): [b1 b2 b3] = Dm^-T, b0 = -(b1 + b2 + b3), so
-// F = sum_a x_a b_a^T. Linear isotropic stress sigma(eps) = 2 mu eps + lambda tr(eps) I.
+// The corotational FEM's element kernels on the linear tet of models/linear_tet.h (inline: they
+// run once per element per step; Mueller & Gross 2004). Linear isotropic stress
+// sigma(eps) = 2 mu eps + lambda tr(eps) I.
 
 namespace softbench::corotational_fem {
-
-using Matrix34d = Eigen::Matrix<double, 3, 4>;
-
-/// What a tet keeps from its rest shape.
-struct TetRest {
-  Eigen::Matrix3d rest_inverse = Eigen::Matrix3d::Identity();  ///< Dm^-1, 1/m
-  double volume = 0.0;                                         ///< V, m^3 (> 0 on a TetMesh)
-};
-
-/// Rest data from the 4 rest positions (columns of `rest`, TetMesh orientation).
-TetRest tet_rest(const Matrix34d& rest);
-
-/// The 4 shape-function gradients b_a as columns (1/m).
-inline Matrix34d shape_gradients(const TetRest& rest) {
-  Matrix34d gradients;
-  gradients.rightCols<3>() = rest.rest_inverse.transpose();
-  gradients.col(0) = -gradients.rightCols<3>().rowwise().sum();
-  return gradients;
-}
-
-/// F = Ds Dm^-1 of the 4 current positions (columns of `x`).
-inline Eigen::Matrix3d deformation_gradient(const TetRest& rest, const Matrix34d& x) {
-  Eigen::Matrix3d edges;
-  edges.col(0) = x.col(1) - x.col(0);
-  edges.col(1) = x.col(2) - x.col(0);
-  edges.col(2) = x.col(3) - x.col(0);
-  return edges * rest.rest_inverse;
-}
 
 /// sigma(eps) = 2 mu eps + lambda tr(eps) I, Pa, for a symmetric strain.
 inline Eigen::Matrix3d linear_stress(const Eigen::Matrix3d& strain, const LameParameters& lame) {

@@ -6,6 +6,7 @@
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
 #include "models/mass_spring/mass_spring_model.h"
+#include "models/memory_bytes.h"
 
 #include <array>
 #include <utility>
@@ -13,11 +14,6 @@
 namespace softbench {
 namespace mass_spring {
 namespace {
-
-template <class Matrix>
-std::size_t bytes_of(const Matrix& matrix) {
-  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
-}
 
 /// The spring joining vertices a and b, found among a's incident springs.
 int spring_between(int a,

@@ -6,6 +6,7 @@
 
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
+#include "models/memory_bytes.h"
 #include "models/neo_hookean/neo_hookean_model.h"
 
 #include <algorithm>
@@ -15,24 +16,6 @@
 namespace softbench {
 namespace neo_hookean {
 namespace {
-
-template <class Vector>
-std::size_t bytes_of_elements(const Vector& vector) {
-  return vector.capacity() * sizeof(typename Vector::value_type);
-}
-
-template <class Matrix>
-std::size_t bytes_of(const Matrix& matrix) {
-  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
-}
-
-Matrix34d tet_positions(const Eigen::Matrix3Xd& positions, const Eigen::Matrix4Xi& tets, int t) {
-  Matrix34d x;
-  for (int a = 0; a < 4; ++a) {
-    x.col(a) = positions.col(tets(a, t));
-  }
-  return x;
-}
 
 /// The index of edge (i, j), i < j, in the sorted unique edges.
 int edge_index(const Eigen::Matrix2Xi& edges, int i, int j) {

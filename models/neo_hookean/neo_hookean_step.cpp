@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // One step of the neo-Hookean reference: Newton's method with a backtracking line search on the
 // incremental potential, a CHOLMOD solve per iteration, exact constraints by elimination.
+#include "models/memory_bytes.h"
 #include "models/neo_hookean/neo_hookean_model.h"
 
 #include <algorithm>
@@ -18,14 +19,6 @@ constexpr int kParallelElements = 16384;
 /// The relative round-off of the incremental potential, a sum of a few thousand terms (each
 /// ~1e-16 of its magnitude): sqrt(#terms) x 1e-16 for a 1e4-term sum, with a 100x margin.
 constexpr double kEnergyRoundoff = 1e-12;
-
-Matrix34d tet_positions(const Eigen::Matrix3Xd& positions, const Eigen::Matrix4Xi& tets, int t) {
-  Matrix34d x;
-  for (int a = 0; a < 4; ++a) {
-    x.col(a) = positions.col(tets(a, t));
-  }
-  return x;
-}
 
 }  // namespace
 

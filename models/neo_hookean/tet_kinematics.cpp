@@ -5,18 +5,6 @@
 
 namespace softbench::neo_hookean {
 
-TetRest tet_rest(const Matrix34d& rest) {
-  Eigen::Matrix3d edges;
-  edges.col(0) = rest.col(1) - rest.col(0);
-  edges.col(1) = rest.col(2) - rest.col(0);
-  edges.col(2) = rest.col(3) - rest.col(0);
-  TetRest result;
-  result.volume = edges.determinant() / 6.0;
-  // A TetMesh guarantees a positive, non-negligible volume, so Dm is invertible.
-  result.rest_inverse = edges.inverse();
-  return result;
-}
-
 Matrix12d element_hessian(const TetRest& rest, const Matrix9d& stress_derivative) {
   // Nodes 1..3 first: their block of B is Dm^-T (x) I (B(3k + i, 3(a-1) + i) = Dm^-1(a-1, k)),
   // so their 9x9 block is V (Dm^-1 (x) I) H (Dm^-1 (x) I)^T. Node 0's rows and columns follow

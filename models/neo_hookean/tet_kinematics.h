@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "models/linear_tet.h"
 #include "models/neo_hookean/stable_neo_hookean.h"
 
 #include <Eigen/Core>
@@ -14,26 +15,7 @@
 
 namespace softbench::neo_hookean {
 
-using Matrix34d = Eigen::Matrix<double, 3, 4>;
 using Matrix12d = Eigen::Matrix<double, 12, 12>;
-
-/// What a tet keeps from its rest shape.
-struct TetRest {
-  Eigen::Matrix3d rest_inverse = Eigen::Matrix3d::Identity();  ///< Dm^-1, 1/m
-  double volume = 0.0;                                         ///< V, m^3 (> 0 on a TetMesh)
-};
-
-/// Rest data from the 4 rest positions (columns, TetMesh orientation: positive volume).
-TetRest tet_rest(const Matrix34d& rest);
-
-/// F = Ds Dm^-1 of the 4 current positions (columns of `x`).
-inline Eigen::Matrix3d deformation_gradient(const TetRest& rest, const Matrix34d& x) {
-  Eigen::Matrix3d edges;
-  edges.col(0) = x.col(1) - x.col(0);
-  edges.col(1) = x.col(2) - x.col(0);
-  edges.col(2) = x.col(3) - x.col(0);
-  return edges * rest.rest_inverse;
-}
 
 /// d(V Psi)/dx_a = V P b_a as columns (N): the negated elastic forces on the nodes. They sum to
 /// zero.

@@ -5,6 +5,7 @@
 #include "models/shape_matching/shape_matching.h"
 
 #include "geometry/mesh_measures.h"
+#include "models/memory_bytes.h"
 #include "models/shape_matching/shape_matching_model.h"
 
 #include <algorithm>
@@ -27,11 +28,6 @@ bool is_exact(const PositionConstraint* constraint) {
 
 bool is_penalty(const PositionConstraint* constraint) {
   return constraint != nullptr && constraint->stiffness != kExact;
-}
-
-template <class Matrix>
-std::size_t bytes_of(const Matrix& matrix) {
-  return static_cast<std::size_t>(matrix.size()) * sizeof(typename Matrix::Scalar);
 }
 
 Clusters clusters_for(const TetMesh& mesh, const ShapeMatchingParams& params) {

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
-#include "models/corotational_fem/tet_element.h"
+#include "models/linear_tet.h"
 
 #include <Eigen/LU>
 
-namespace softbench::corotational_fem {
+namespace softbench {
 
 TetRest tet_rest(const Matrix34d& rest) {
   Eigen::Matrix3d edges;
@@ -17,4 +17,4 @@ TetRest tet_rest(const Matrix34d& rest) {
   return result;
 }
 
-}  // namespace softbench::corotational_fem
+}  // namespace softbench
