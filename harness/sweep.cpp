@@ -220,6 +220,8 @@ nlohmann::json to_json(const SweepRecord& record) {
           {"settings", record.point.settings},
           {"stable", record.stable},
           {"steps_per_second", record.steps_per_second},
+          // Simulated seconds per wall second: what a smaller dt costs in real time.
+          {"realtime_factor", record.steps_per_second * record.point.dt},
           {"rms_error", number_or_null(a.rms_error)},
           {"max_error", number_or_null(a.max_error)},
           {"volume_error", number_or_null(a.volume_error)},
@@ -354,8 +356,8 @@ void write_sweep_table(const std::filesystem::path& out_dir,
         best ? to_json(*best) : nlohmann::json(nullptr);
   }
   std::ostringstream csv;
-  csv << "id,model,dt,settings,stable,steps_per_second,rms_error,max_error,volume_error,"
-         "peak_force_error\n";
+  csv << "id,model,dt,settings,stable,steps_per_second,realtime_factor,rms_error,max_error,"
+         "volume_error,peak_force_error\n";
   for (const SweepRecord& record : records) {
     const nlohmann::json row = to_json(record);
     std::string settings = record.point.settings.dump();

@@ -183,6 +183,9 @@ TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
   EXPECT_LT(fine.accuracy.rms_error, 1e-9);
   EXPECT_GT(coarse.accuracy.rms_error, 1e-4);
   EXPECT_GT(coarse.steps_per_second, 0.0);
+  // Simulated seconds per wall second: steps/s x dt.
+  EXPECT_DOUBLE_EQ(to_json(coarse)["realtime_factor"].get<double>(),
+                   coarse.steps_per_second * coarse.point.dt);
 
   // Resuming runs nothing: a record file left alone keeps its (edited) contents.
   const auto file = options.out_dir / "runs" / (coarse.point.id + ".json");
