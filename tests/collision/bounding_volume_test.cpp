@@ -71,8 +71,8 @@ TEST(Sphere, MergeHoldsBothInputsAndTheirPoints) {
   for (int trial = 0; trial < kTrials; ++trial) {
     const Eigen::Matrix3Xd first = random_points(rng, 1 + trial % 5);
     Eigen::Matrix3Xd second = random_points(rng, 1 + trial % 7);
-    if (trial % 4 == 0) {
-      second = first * 0.5 + second * 0.5;  // nested or nearly concentric
+    if (trial % 4 == 0) {  // nested or nearly concentric: second inside first's hull
+      second = first * 0.5 + random_points(rng, static_cast<int>(first.cols())) * 0.5;
     }
     const Sphere a = fit_sphere(first), b = fit_sphere(second);
     const Sphere merged = merge(a, b);
