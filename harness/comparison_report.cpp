@@ -3,6 +3,7 @@
 
 #include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
+#include "harness/report.h"
 #include "models/json_reader.h"
 
 #include <cmath>
@@ -14,10 +15,6 @@ namespace softbench::harness {
 namespace {
 
 constexpr const char* kSource = "compare.json";
-
-nlohmann::json number_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
 
 nlohmann::json percentiles_json(const Percentiles& p) {
   return {{"median", p.median}, {"p95", p.p95}, {"max", p.max}};

@@ -34,6 +34,7 @@ Loading::Loading(const scenes::Scene& scene, const TetMesh& mesh) : scene_(scene
   }
   const auto vertices = static_cast<std::size_t>(mesh.num_vertices());
   in_contact_.assign(vertices, false);
+  held_.assign(vertices, 0);
   lost_.assign(vertices, false);
   constraints_.reserve(fixed_.size() + grasped_.size());
 }
@@ -72,9 +73,9 @@ std::span<const PositionConstraint> Loading::constraints(double start,
     }
     // The scene's grasp moves the patch by its path's offset; the instrument's carries it
     // rigidly in the tool's frame.
-    const Eigen::Isometry3d tool_then = scene_.instrument
-                                            ? scenes::instrument_pose(*scene_.instrument, start)
-                                            : Eigen::Isometry3d::Identity();
+    const Eigen::Isometry3d to_tool_then =
+        scene_.instrument ? scenes::instrument_pose(*scene_.instrument, start).inverse()
+                          : Eigen::Isometry3d::Identity();
     const Eigen::Isometry3d tool_now = scene_.instrument
                                            ? scenes::instrument_pose(*scene_.instrument, end)
                                            : Eigen::Isometry3d::Identity();
@@ -83,26 +84,28 @@ std::span<const PositionConstraint> Loading::constraints(double start,
     for (std::size_t i = 0; i < grasped_.size(); ++i) {
       const auto column = static_cast<Eigen::Index>(i);
       if (closes) {
-        grasp_anchor_.col(column) = tool_then.inverse() * positions.col(grasped_[i]);
+        grasp_anchor_.col(column) = to_tool_then * positions.col(grasped_[i]);
       }
       constraints_.push_back({grasped_[i], tool_now * grasp_anchor_.col(column) + offset});
       loaded_.push_back(grasped_[i]);
     }
   }
   if (contact_) {
+    // The fixed region and the grasp win over contact.
+    for (const PositionConstraint& constraint : constraints_) {
+      held_[static_cast<std::size_t>(constraint.vertex)] = 1;
+    }
     const std::size_t held = constraints_.size();
-    const auto already_held = [&](int vertex) {
-      return std::any_of(constraints_.begin(),
-                         constraints_.begin() + static_cast<std::ptrdiff_t>(held),
-                         [vertex](const PositionConstraint& c) { return c.vertex == vertex; });
-    };
     const Eigen::Isometry3d pose = scenes::instrument_pose(*scene_.instrument, end);
     for (const collision::VertexTarget& target :
          contact_->resolve(pose, positions, velocities, dt, last_forces)) {
-      if (!already_held(target.vertex)) {
+      if (held_[static_cast<std::size_t>(target.vertex)] == 0) {
         constraints_.push_back({target.vertex, target.target});
         loaded_.push_back(target.vertex);
       }
+    }
+    for (std::size_t k = 0; k < held; ++k) {
+      held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;
     }
   }
   return constraints_;

@@ -59,6 +59,7 @@ class Loading {
   std::unique_ptr<collision::InstrumentContact> contact_;
   std::vector<PositionConstraint> constraints_;
   std::vector<int> loaded_;       ///< vertices whose constraint forces act on the tool
+  std::vector<char> held_;        ///< per vertex: fixed or grasped this step (scratch)
   std::vector<bool> in_contact_;  ///< per vertex: pressed by the instrument at the last step
   std::vector<bool> lost_;        ///< per vertex: lost contact while the instrument pressed
   double tool_displacement_ = 0.0;

@@ -10,10 +10,6 @@
 namespace softbench::harness {
 namespace {
 
-nlohmann::json number_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
-
 std::string fixed(double value, int digits) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << value;
@@ -21,6 +17,10 @@ std::string fixed(double value, int digits) {
 }
 
 }  // namespace
+
+nlohmann::json number_or_null(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
 
 nlohmann::json to_json(const ModelRun& run) {
   nlohmann::json json;

@@ -12,6 +12,9 @@
 
 namespace softbench::harness {
 
+/// A number for JSON, or null where it is NaN or infinite (JSON has neither).
+nlohmann::json number_or_null(double value);
+
 /// One metrics.json entry (DESIGN.md's schema plus solver, energy and memory figures).
 nlohmann::json to_json(const ModelRun& run);
 

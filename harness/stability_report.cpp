@@ -2,6 +2,7 @@
 #include "harness/stability_report.h"
 
 #include "geometry/atomic_file.h"
+#include "harness/report.h"
 
 #include <cmath>
 #include <iomanip>
@@ -10,10 +11,6 @@
 
 namespace softbench::harness {
 namespace {
-
-nlohmann::json number_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
-}
 
 std::string status_name(RunStatus status) {
   switch (status) {

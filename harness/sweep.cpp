@@ -6,6 +6,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_validation.h"
 #include "harness/python_plot.h"
+#include "harness/report.h"
 #include "models/json_reader.h"
 #include "models/model_registry.h"
 
@@ -64,10 +65,6 @@ nlohmann::json parse_value(const std::string& text) {
 
 double finite_or_infinity(const nlohmann::json& json) {
   return json.is_null() ? kInfinity : json.get<double>();
-}
-
-nlohmann::json number_or_null(double value) {
-  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
 }
 
 // The relative errors of `x` against `reference` at one time: RMS and max.
@@ -250,6 +247,13 @@ SweepRecord sweep_record_from_json(const nlohmann::json& json, const std::string
   }
 }
 
+void write_sweep_record(const std::filesystem::path& out_dir, const SweepRecord& record) {
+  std::filesystem::create_directories(out_dir / "runs");
+  const std::string text = to_json(record).dump(2) + "\n";
+  write_file_atomically(out_dir / "runs" / (record.point.id + ".json"),
+                        [&](std::ostream& out) { out << text; });
+}
+
 std::vector<SweepRecord> read_sweep_runs(const std::vector<std::filesystem::path>& dirs) {
   std::map<std::string, SweepRecord> by_id;
   for (const std::filesystem::path& dir : dirs) {
@@ -286,7 +290,6 @@ std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOption
       reference_run(scene, options.reference, options.out_dir / "reference");
   const Eigen::Matrix3Xd rest = make_tet_mesh(read_mesh(scene.mesh)).rest_positions();
   const std::filesystem::path runs = options.out_dir / "runs";
-  std::filesystem::create_directories(runs);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& point = points[i];
     const std::filesystem::path file = runs / (point.id + ".json");
@@ -295,8 +298,7 @@ std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOption
       continue;  // another shard's, or already run
     }
     const SweepRecord record = run_point(scene, point, reference, rest);
-    const std::string text = to_json(record).dump(2) + "\n";
-    write_file_atomically(file, [&](std::ostream& out) { out << text; });
+    write_sweep_record(options.out_dir, record);
     if (options.progress != nullptr) {
       *options.progress << point.model << " " << point.settings.dump() << ": "
                         << record.steps_per_second << " steps/s, error "

@@ -61,6 +61,10 @@ struct SweepRecord {
 nlohmann::json to_json(const SweepRecord& record);
 SweepRecord sweep_record_from_json(const nlohmann::json& json, const std::string& where);
 
+/// Stores `record` as out_dir/runs/<id>.json (atomically): one file per run is what lets a
+/// sweep resume and shards merge.
+void write_sweep_record(const std::filesystem::path& out_dir, const SweepRecord& record);
+
 struct SweepOptions {
   std::vector<SweepAxis> axes;
   std::vector<std::string> models;  ///< empty: the scene's model blocks

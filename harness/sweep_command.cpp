@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "harness/sweep_command.h"
 
-#include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
 #include "harness/python_plot.h"
 #include "harness/recommend.h"
@@ -104,13 +103,8 @@ void merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
   std::vector<std::filesystem::path> paths(dirs.begin(), dirs.end());
   const std::vector<SweepRecord> records = read_sweep_runs(paths);
   const std::filesystem::path out(out_dir);
-  std::filesystem::create_directories(out / "runs");
   for (const SweepRecord& record : records) {
-    const std::filesystem::path file = out / "runs" / (record.point.id + ".json");
-    if (!std::filesystem::exists(file)) {
-      const std::string text = to_json(record).dump(2) + "\n";
-      write_file_atomically(file, [&](std::ostream& stream) { stream << text; });
-    }
+    write_sweep_record(out, record);
   }
   write_sweep_table(out, "merged", records);
   std::cout << records.size() << " runs merged into " << (out / "sweep.csv").string() << "\n";
