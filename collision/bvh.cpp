@@ -131,16 +131,6 @@ Bvh::Bvh(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xi& triangles, B
   refit(positions);
 }
 
-namespace {
-
-// The box's circumsphere: the sphere of a node whose box is tested too (see bvh.h).
-Sphere circumsphere(const Aabb& box) {
-  const Eigen::Vector3d center = box.center();
-  return {center, padded_radius(0.5 * std::sqrt(box.extent().squaredNorm()), center)};
-}
-
-}  // namespace
-
 void Bvh::refit(const Eigen::Matrix3Xd& positions) {
   if (positions.cols() != num_vertices_) {
     throw InputError("BVH refit: expected " + std::to_string(num_vertices_)
@@ -166,12 +156,8 @@ void Bvh::refit(const Eigen::Matrix3Xd& positions) {
       node->box.min = left.box.min.cwiseMin(right.box.min);
       node->box.max = left.box.max.cwiseMax(right.box.max);
     }
-    if (!node->has_sphere()) {
-      continue;
-    }
-    if (node->has_box()) {
-      node->sphere = circumsphere(node->box);
-      continue;
+    if (!node->has_sphere() || node->has_box()) {
+      continue;  // no sphere, or the box's circumsphere, formed by the query (see bvh.h)
     }
     const Eigen::Vector3d center = node->box.center();
     // Squared reaches, so that a bound without a sphere costs no square root.

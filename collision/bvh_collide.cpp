@@ -5,17 +5,22 @@
 #include "collision/tri_tri_moller.h"
 #include "collision/tri_tri_projection.h"
 
+#include <algorithm>
 #include <array>
 #include <utility>
 
 namespace softbench::collision {
 namespace {
 
-/// Runs the tests the two nodes' kinds share, cheapest first (see bvh_collide.h).
-bool volumes_overlap(const BvhNode& a, const BvhNode& b, QueryStats& stats) {
+/// Runs the tests the two nodes' kinds share, cheapest first (see bvh_collide.h). `magnitude`
+/// bounds every coordinate of both trees (circumspheres_overlap).
+bool volumes_overlap(const BvhNode& a, const BvhNode& b, double magnitude, QueryStats& stats) {
   if (a.has_sphere() && b.has_sphere()) {
     ++stats.sphere_tests;
-    if (!overlap(a.sphere, b.sphere)) {
+    const bool spheres_overlap = a.has_box() && b.has_box()
+                                     ? circumspheres_overlap(a.box, b.box, magnitude)
+                                     : overlap(a.sphere_of(), b.sphere_of());
+    if (!spheres_overlap) {
       return false;
     }
   }
@@ -104,12 +109,14 @@ void collect_candidates(const Bvh& tree_a,
   stack[static_cast<std::size_t>(top++)] = {0, 0};
   const std::vector<BvhNode>& nodes_a = tree_a.nodes();
   const std::vector<BvhNode>& nodes_b = tree_b.nodes();
+  const double magnitude = std::max(coordinate_magnitude(nodes_a.front().box),
+                                    coordinate_magnitude(nodes_b.front().box));
   while (top > 0) {
     const auto [index_a, index_b] = stack[static_cast<std::size_t>(--top)];
     const BvhNode& a = nodes_a[static_cast<std::size_t>(index_a)];
     const BvhNode& b = nodes_b[static_cast<std::size_t>(index_b)];
     ++stats.node_visits;
-    if (!volumes_overlap(a, b, stats)) {
+    if (!volumes_overlap(a, b, magnitude, stats)) {
       continue;
     }
     if (a.is_leaf() && b.is_leaf()) {

@@ -14,17 +14,14 @@ namespace {
 
 // Squared lower bound on the distance from `point` to anything the node holds.
 double squared_lower_bound(const BvhNode& node, const Eigen::Vector3d& point) {
-  double bound = 0.0;
   if (node.has_box()) {
-    bound = squared_distance(node.box, point);
+    return squared_distance(node.box, point);  // the box lies inside any sphere it is tested with
   }
-  if (node.has_sphere()) {
-    const double gap = (point - node.sphere.center).norm() - node.sphere.radius;
-    if (gap > 0.0) {
-      bound = std::max(bound, gap * gap);
-    }
+  if (!node.has_sphere()) {
+    return 0.0;
   }
-  return bound;
+  const double gap = (point - node.sphere.center).norm() - node.sphere.radius;
+  return gap > 0.0 ? gap * gap : 0.0;
 }
 
 // Angle at vertex `a` of triangle (a, b, c), radians (0 for a zero-length edge).

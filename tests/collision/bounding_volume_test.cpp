@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -194,6 +195,64 @@ TEST(SphereAabb, OverlapsOnlyWhereBothVolumesOverlapAndDistanceIsTheLargerBound)
   }
   // Random points at random scales: some pairs must exercise the box after a sphere pass.
   EXPECT_GT(rejected_by_box_only, 0);
+}
+
+// circumspheres_overlap against the formed circumspheres. The exact answer is compared only where
+// the sphere gap is clear of round-off; near tangency the test may only err towards "overlap",
+// which the box-overlap property checks exactly: boxes that overlap (even at one corner, far from
+// the origin, with coordinates that have no short binary form) always have overlapping
+// circumspheres, by the triangle inequality on their half-diagonals.
+TEST(SphereAabb, CircumspheresOverlapMatchesTheFormedSpheresAndNeverRejectsOverlappingBoxes) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> shift(-1.0, 1.0);
+  int overlapping = 0, decided = 0;
+  for (int trial = 0; trial < kTrials; ++trial) {
+    // b: a's points moved by up to their spread per axis, so that a good share overlap.
+    const Eigen::Matrix3Xd points = random_points(rng, 3);
+    const Aabb a = fit_aabb(points);
+    const Eigen::Vector3d move =
+        a.extent().norm() * Eigen::Vector3d(shift(rng), shift(rng), shift(rng));
+    const Aabb b = fit_aabb((points.colwise() + move).eval());
+    const double magnitude = std::max(coordinate_magnitude(a), coordinate_magnitude(b));
+    const Sphere sa = circumsphere(a), sb = circumsphere(b);
+    const double gap = (sa.center - sb.center).norm() - sa.radius - sb.radius;
+    const bool result = circumspheres_overlap(a, b, magnitude);
+    EXPECT_EQ(result, circumspheres_overlap(b, a, magnitude)) << "trial " << trial;
+    if (std::abs(gap) > 1e-9 * (sa.radius + sb.radius + magnitude)) {
+      EXPECT_EQ(result, gap <= 0.0) << "trial " << trial;
+      ++decided;
+    }
+    if (overlap(a, b)) {
+      EXPECT_TRUE(result) << "trial " << trial;
+    }
+    overlapping += result;
+  }
+  EXPECT_GT(decided, kTrials * 9 / 10);
+  EXPECT_GT(overlapping, kTrials / 10);
+  EXPECT_LT(overlapping, kTrials * 9 / 10);
+
+  // Boxes of one shape touching at a corner: their circumspheres touch at that corner.
+  std::uniform_real_distribution<double> unit(0.1, 1.0);
+  for (const double offset : {0.0, 0.3, 1e3, -7e6, 1e12}) {
+    for (int trial = 0; trial < 200; ++trial) {
+      const Eigen::Vector3d size(unit(rng), unit(rng), unit(rng));
+      Aabb a, b;
+      a.extend(Eigen::Vector3d::Constant(offset) + 0.1 * size);
+      a.extend(Eigen::Vector3d::Constant(offset) + 1.1 * size);
+      b.extend(a.max);
+      b.extend(a.max + (a.max - a.min));
+      const double magnitude = std::max(coordinate_magnitude(a), coordinate_magnitude(b));
+      ASSERT_TRUE(overlap(a, b));
+      EXPECT_TRUE(circumspheres_overlap(a, b, magnitude)) << "offset " << offset;
+      // Moved apart along the diagonal by more than round-off, they miss.
+      const Eigen::Vector3d away = (1e-6 + 1e-12 * std::abs(offset)) * size;
+      Aabb apart = b;
+      apart.min += away;
+      apart.max += away;
+      EXPECT_FALSE(circumspheres_overlap(a, apart, magnitude + 1.0))
+          << "offset " << offset << " trial " << trial;
+    }
+  }
 }
 
 TEST(SphereAabb, FitHoldsEveryPointInBothVolumes) {

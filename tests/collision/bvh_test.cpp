@@ -176,7 +176,7 @@ void expect_valid_tree(const Bvh& tree,
         const Eigen::Vector3d p = positions.col(mesh.triangles(k, t));
         exact.extend(p);
         if (node.has_sphere()) {
-          ASSERT_TRUE(node.sphere.contains(p)) << "node " << i << " triangle " << t;
+          ASSERT_TRUE(node.sphere_of().contains(p)) << "node " << i << " triangle " << t;
         }
       }
     }
@@ -185,9 +185,9 @@ void expect_valid_tree(const Bvh& tree,
     EXPECT_EQ(node.box.max, exact.max) << "node " << i;
     if (node.has_sphere()) {
       // The sphere is never larger than the box's circumsphere, up to its padding.
-      EXPECT_LE(node.sphere.radius,
-                0.5 * exact.extent().norm()
-                    + 1e-12 * (node.sphere.radius + node.sphere.center.cwiseAbs().maxCoeff()));
+      const Sphere sphere = node.sphere_of();
+      EXPECT_LE(sphere.radius, 0.5 * exact.extent().norm()
+                                   + 1e-12 * (sphere.radius + sphere.center.cwiseAbs().maxCoeff()));
     }
   }
   for (int t = 0; t < mesh.num_triangles(); ++t) {
