@@ -5,46 +5,6 @@
 
 namespace softbench {
 
-VertexConstraints::VertexConstraints(int num_vertices)
-    : index_(static_cast<std::size_t>(num_vertices), -1) {
-  vertices_.reserve(static_cast<std::size_t>(num_vertices));
-  exact_vertices_.reserve(static_cast<std::size_t>(num_vertices));
-}
-
-void VertexConstraints::bind(std::span<const PositionConstraint> constraints) {
-  constraints_ = constraints;
-  const auto num_vertices = static_cast<int>(index_.size());
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
-    const int vertex = constraints[k].vertex;
-    if (vertex < 0 || vertex >= num_vertices) {
-      continue;
-    }
-    int& index = index_[static_cast<std::size_t>(vertex)];
-    if (index < 0) {
-      vertices_.push_back(vertex);  // within the reserved capacity: no allocation
-    }
-    index = static_cast<int>(k);
-  }
-  for (const int vertex : vertices_) {
-    if (is_exact(of(vertex))) {
-      exact_vertices_.push_back(vertex);
-    }
-  }
-}
-
-void VertexConstraints::unbind() {
-  for (const int vertex : vertices_) {
-    index_[static_cast<std::size_t>(vertex)] = -1;
-  }
-  vertices_.clear();
-  exact_vertices_.clear();
-  constraints_ = {};
-}
-
-std::size_t VertexConstraints::memory_bytes() const {
-  return (index_.capacity() + vertices_.capacity() + exact_vertices_.capacity()) * sizeof(int);
-}
-
 void ConstraintElimination::eliminate(BlockPattern& pattern,
                                       const VertexConstraints& constraints,
                                       const Eigen::Matrix3Xd& known,
@@ -133,6 +93,27 @@ void exact_velocity_changes(const VertexConstraints& constraints,
                             Eigen::Matrix3Xd& changes) {
   for (const int v : constraints.exact_vertices()) {
     changes.col(v) = (constraints.of(v)->target - positions.col(v)) / dt - velocities.col(v);
+  }
+}
+
+void apply_velocity_change(const VertexConstraints& constraints,
+                           double dt,
+                           Eigen::VectorXd& velocity_change,
+                           Eigen::Matrix3Xd& positions,
+                           Eigen::Matrix3Xd& velocities) {
+  const auto num_vertices = static_cast<int>(positions.cols());
+#pragma omp parallel for schedule(static) if (num_vertices > BlockPattern::kParallelVertices)
+  for (int v = 0; v < num_vertices; ++v) {
+    const PositionConstraint* constraint = constraints.of(v);
+    if (is_exact(constraint)) {
+      const Eigen::Vector3d new_velocity = (constraint->target - positions.col(v)) / dt;
+      velocity_change.segment<3>(3 * v) = new_velocity - velocities.col(v);
+      velocities.col(v) = new_velocity;
+      positions.col(v) = constraint->target;
+    } else {
+      velocities.col(v) += velocity_change.segment<3>(3 * v);
+      positions.col(v) += dt * velocities.col(v);
+    }
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include "models/block_pattern.h"
 #include "models/soft_body.h"
+#include "models/vertex_constraints.h"
 
 #include <Eigen/Core>
 
@@ -15,43 +16,6 @@
 // by elimination, with the reactions read from the rows as they were before elimination.
 
 namespace softbench {
-
-inline bool is_exact(const PositionConstraint* constraint) {
-  return constraint != nullptr && constraint->stiffness == kExact;
-}
-
-inline bool is_penalty(const PositionConstraint* constraint) {
-  return constraint != nullptr && constraint->stiffness != kExact;
-}
-
-/// The constraint acting on each vertex during one step: the last one listed for a vertex wins,
-/// and vertices out of range are ignored (step() never throws). bind() at the start of a step,
-/// unbind() at its end; nothing allocates after construction.
-class VertexConstraints {
- public:
-  explicit VertexConstraints(int num_vertices);
-
-  void bind(std::span<const PositionConstraint> constraints);
-  void unbind();
-
-  /// The constraint on `vertex` this step, or null.
-  const PositionConstraint* of(int vertex) const {
-    const int index = index_[static_cast<std::size_t>(vertex)];
-    return index < 0 ? nullptr : &constraints_[static_cast<std::size_t>(index)];
-  }
-  /// Every constrained vertex once, in the order of the list's first mention.
-  std::span<const int> vertices() const { return vertices_; }
-  /// The exactly constrained vertices among them, in the same order.
-  std::span<const int> exact_vertices() const { return exact_vertices_; }
-
-  std::size_t memory_bytes() const;
-
- private:
-  std::span<const PositionConstraint> constraints_;
-  std::vector<int> index_;  ///< per vertex: into constraints_, or -1
-  std::vector<int> vertices_;
-  std::vector<int> exact_vertices_;
-};
 
 /// Exact constraints on a symmetric block system A u = b (BlockPattern layout) whose unknown at
 /// an exactly constrained vertex c is known, u_c: b_o -= A_oc u_c at every free neighbour o, the
@@ -93,6 +57,16 @@ void exact_velocity_changes(const VertexConstraints& constraints,
                             const Eigen::Matrix3Xd& velocities,
                             double dt,
                             Eigen::Matrix3Xd& changes);
+
+/// Backward Euler's update once the velocity change `velocity_change` (3 #V) is solved:
+/// v += dv, x += dt v. An exact vertex lands exactly on its target whatever the solver's accuracy
+/// on its identity rows, and its dv becomes what moved it there (implicit_reactions reads it).
+/// Parallel (OpenMP, static) above BlockPattern::kParallelVertices vertices.
+void apply_velocity_change(const VertexConstraints& constraints,
+                           double dt,
+                           Eigen::VectorXd& velocity_change,
+                           Eigen::Matrix3Xd& positions,
+                           Eigen::Matrix3Xd& velocities);
 
 /// The constraint forces (3 x #V) after a backward Euler velocity solve: a penalty constraint's
 /// spring force at the end of the step (`positions` already updated), an exact one's

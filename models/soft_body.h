@@ -21,6 +21,14 @@ struct PositionConstraint {
   double stiffness = kExact;  ///< kExact: enforce exactly; finite: a penalty spring, N/m
 };
 
+/// Whether a vertex's constraint (null: none) is enforced exactly, or as a penalty spring.
+inline bool is_exact(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness == kExact;
+}
+inline bool is_penalty(const PositionConstraint* constraint) {
+  return constraint != nullptr && constraint->stiffness != kExact;
+}
+
 /// Everything a scene imposes on a model for one step.
 struct StepInput {
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};           ///< m/s^2

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "models/bullet/bullet_energy.h"
 
+#include "models/rotation_svd.h"
+
 #include <Eigen/LU>
-#include <Eigen/SVD>
 
 #include <cmath>
 
@@ -45,20 +46,9 @@ double stable_neo_hookean_density(const Eigen::Matrix3d& deformation_gradient,
 }
 
 double corotated_density(const Eigen::Matrix3d& deformation_gradient, double mu, double lambda) {
-  // R = U V^T with the smallest singular direction flipped where needed, so R is a rotation
-  // (as in corotational_fem/polar_decomposition.cpp).
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(deformation_gradient,
-                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d u = svd.matrixU();
-  Eigen::Matrix3d v = svd.matrixV();
-  if (u.determinant() < 0.0) {
-    u.col(2) = -u.col(2);
-  }
-  if (v.determinant() < 0.0) {
-    v.col(2) = -v.col(2);
-  }
+  const RotationSvd svd = rotation_svd(deformation_gradient);
   const double j_minus_1 = deformation_gradient.determinant() - 1.0;
-  return mu * (deformation_gradient - u * v.transpose()).squaredNorm()
+  return mu * (deformation_gradient - svd.u * svd.v.transpose()).squaredNorm()
          + 0.5 * lambda * j_minus_1 * j_minus_1;
 }
 

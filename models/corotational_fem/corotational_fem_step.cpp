@@ -194,20 +194,7 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
   const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_);
   clock.lap(&PhaseTimes::solve);
 
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
-  for (int v = 0; v < num_vertices_; ++v) {
-    const PositionConstraint* constraint = constraints_.of(v);
-    if (is_exact(constraint)) {
-      // Exactly on the target, whatever the solver's accuracy on the identity rows.
-      const Eigen::Vector3d new_velocity = (constraint->target - positions_.col(v)) / dt;
-      velocity_change_.segment<3>(3 * v) = new_velocity - velocities_.col(v);
-      velocities_.col(v) = new_velocity;
-      positions_.col(v) = constraint->target;
-    } else {
-      velocities_.col(v) += velocity_change_.segment<3>(3 * v);
-      positions_.col(v) += dt * velocities_.col(v);
-    }
-  }
+  apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
   compute_reactions(dt);
 
   StepStats stats = finish_step();

@@ -1,8 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "models/corotational_fem/polar_decomposition.h"
 
-#include <Eigen/LU>
-#include <Eigen/SVD>
+#include "models/rotation_svd.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,19 +9,8 @@
 namespace softbench::corotational_fem {
 
 Eigen::Matrix3d rotation_by_svd(const Eigen::Matrix3d& deformation) {
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(deformation,
-                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d u = svd.matrixU();
-  Eigen::Matrix3d v = svd.matrixV();
-  // Singular values are sorted decreasing: column 2 belongs to the smallest. Negating it in U
-  // (or V) negates that singular value instead of leaving a reflection in R.
-  if (u.determinant() < 0.0) {
-    u.col(2) = -u.col(2);
-  }
-  if (v.determinant() < 0.0) {
-    v.col(2) = -v.col(2);
-  }
-  return u * v.transpose();
+  const RotationSvd svd = rotation_svd(deformation);
+  return svd.u * svd.v.transpose();
 }
 
 namespace {

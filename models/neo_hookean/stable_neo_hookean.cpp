@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "models/neo_hookean/stable_neo_hookean.h"
 
+#include "models/rotation_svd.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-#include <Eigen/SVD>
 
 #include <array>
 #include <cmath>
@@ -117,18 +118,7 @@ Matrix9d projected_stress_derivative(const Eigen::Matrix3d& deformation,
   // only {S00, S11, S22} among themselves and each pair {S_ij, S_ji}: its eigenproblem is one
   // 3x3 and three 2x2 symmetric ones, and Q H_S+ Q^T (H_S+ with clamped eigenvalues) is the
   // projection of the full Hessian (Q is orthogonal).
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(deformation,
-                                              Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d u = svd.matrixU();
-  Eigen::Matrix3d v = svd.matrixV();
-  // Column 2 belongs to the smallest singular value: negating it turns a reflection into a
-  // negative singular value.
-  if (u.determinant() < 0.0) {
-    u.col(2) = -u.col(2);
-  }
-  if (v.determinant() < 0.0) {
-    v.col(2) = -v.col(2);
-  }
+  const auto [u, v] = rotation_svd(deformation);
   // S = U^T F V, diagonal up to round-off (dropped).
   const Eigen::Matrix3d singular = (u.transpose() * deformation * v).diagonal().asDiagonal();
   Matrix9d diagonal_hessian = stress_derivative(singular, law);

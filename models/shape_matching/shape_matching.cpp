@@ -22,14 +22,6 @@ constexpr int kParallelMemberships = 2048;
 /// Particles per chunk of a parallel per-particle loop: a few microseconds of work each.
 [[maybe_unused]] constexpr int kParticleChunk = 256;
 
-bool is_exact(const PositionConstraint* constraint) {
-  return constraint != nullptr && constraint->stiffness == kExact;
-}
-
-bool is_penalty(const PositionConstraint* constraint) {
-  return constraint != nullptr && constraint->stiffness != kExact;
-}
-
 Clusters clusters_for(const TetMesh& mesh, const ShapeMatchingParams& params) {
   return build_clusters(mesh.rest_positions(),
                         {params.clusters, params.cluster_radius, params.particles_per_cluster});
@@ -52,7 +44,7 @@ ShapeMatchingModel::ShapeMatchingModel(const TetMesh& mesh,
       predicted_(rest_positions_),
       squared_residuals_(Eigen::VectorXd::Zero(num_vertices_)),
       cluster_iterations_(static_cast<std::size_t>(clusters_.count()), 0),
-      constraint_index_(static_cast<std::size_t>(num_vertices_), -1) {
+      constraints_(num_vertices_) {
   const Eigen::Matrix<double, 3, 2> box = bounding_box(rest_positions_);
   const double diagonal = (box.col(1) - box.col(0)).norm();
   diagonal_ = diagonal > 0.0 ? diagonal : 1.0;
@@ -79,37 +71,13 @@ std::size_t ShapeMatchingModel::memory_bytes() const {
          + bytes_of(velocities_) + bytes_of(constraint_forces_) + bytes_of(predicted_)
          + bytes_of(squared_residuals_)
          + (clusters_.seeds.size() + clusters_.offsets.size() + clusters_.members.size()
-            + cluster_iterations_.size() + constraint_index_.size())
+            + cluster_iterations_.size())
                * sizeof(int)
-         + matcher_.memory_bytes();
-}
-
-void ShapeMatchingModel::bind_constraints(std::span<const PositionConstraint> constraints) {
-  for (std::size_t k = 0; k < constraints.size(); ++k) {
-    const int vertex = constraints[k].vertex;
-    // An out-of-range vertex is ignored rather than thrown: step() never throws.
-    if (vertex >= 0 && vertex < num_vertices_) {
-      constraint_index_[static_cast<std::size_t>(vertex)] = static_cast<int>(k);
-    }
-  }
-}
-
-void ShapeMatchingModel::unbind_constraints(std::span<const PositionConstraint> constraints) {
-  for (const PositionConstraint& constraint : constraints) {
-    if (constraint.vertex >= 0 && constraint.vertex < num_vertices_) {
-      constraint_index_[static_cast<std::size_t>(constraint.vertex)] = -1;
-    }
-  }
-}
-
-const PositionConstraint* ShapeMatchingModel::constraint_of(
-    int vertex, std::span<const PositionConstraint> constraints) const {
-  const int index = constraint_index_[static_cast<std::size_t>(vertex)];
-  return index < 0 ? nullptr : &constraints[static_cast<std::size_t>(index)];
+         + constraints_.memory_bytes() + matcher_.memory_bytes();
 }
 
 void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) {
-  const PositionConstraint* constraint = constraint_of(vertex, input.constraints);
+  const PositionConstraint* constraint = constraints_.of(vertex);
   const double mass = masses_(vertex);
   Eigen::Vector3d force = mass * input.gravity;
   if (input.external_forces != nullptr) {
@@ -138,8 +106,8 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
   predicted_.col(vertex) = positions_.col(vertex) + dt * velocities_.col(vertex);
 }
 
-void ShapeMatchingModel::pull(int vertex, double dt, const StepInput& input) {
-  const PositionConstraint* constraint = constraint_of(vertex, input.constraints);
+void ShapeMatchingModel::pull(int vertex, double dt) {
+  const PositionConstraint* constraint = constraints_.of(vertex);
   if (is_exact(constraint)) {
     squared_residuals_(vertex) = 0.0;
     return;
@@ -155,7 +123,7 @@ void ShapeMatchingModel::pull(int vertex, double dt, const StepInput& input) {
 }
 
 StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
-  bind_constraints(input.constraints);
+  constraints_.bind(input.constraints);
   const int num_clusters = matcher_.num_clusters();
   [[maybe_unused]] const bool parallel = matcher_.num_memberships() >= kParallelMemberships;
   // Dynamic schedules: cluster sizes differ (73 to 142 particles on the liver), and on a shared
@@ -174,7 +142,7 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
     }
 #pragma omp for schedule(dynamic, kParticleChunk)
     for (int v = 0; v < num_vertices_; ++v) {
-      pull(v, dt, input);
+      pull(v, dt);
     }
   }
 
@@ -182,25 +150,19 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   StepStats stats;
   stats.iterations = *std::max_element(cluster_iterations_.begin(), cluster_iterations_.end());
   int free_particles = num_vertices_;
-  for (const PositionConstraint& listed : input.constraints) {
-    if (listed.vertex < 0 || listed.vertex >= num_vertices_) {
-      continue;
-    }
-    const PositionConstraint* constraint = constraint_of(listed.vertex, input.constraints);
-    if (constraint != &listed) {
-      continue;  // overridden by a later constraint on the same vertex
-    }
-    if (is_exact(constraint)) {
-      --free_particles;
-    } else {
+  for (const int vertex : constraints_.vertices()) {
+    const PositionConstraint* constraint = constraints_.of(vertex);
+    if (is_penalty(constraint)) {
       stats.max_constraint_error = std::max(stats.max_constraint_error,
-                                            (positions_.col(listed.vertex) - listed.target).norm());
+                                            (positions_.col(vertex) - constraint->target).norm());
+    } else {
+      --free_particles;  // exactly on its target
     }
   }
   stats.residual =
       free_particles > 0 ? std::sqrt(squared_residuals_.sum() / free_particles) / diagonal_ : 0.0;
   stats.finite = positions_.allFinite() && velocities_.allFinite();
-  unbind_constraints(input.constraints);
+  constraints_.unbind();
   return stats;
 }
 

@@ -6,6 +6,7 @@
 #include "models/shape_matching/cluster_matching.h"
 #include "models/shape_matching/clusters.h"
 #include "models/shape_matching/shape_matching.h"
+#include "models/vertex_constraints.h"
 
 #include <Eigen/Core>
 
@@ -48,14 +49,10 @@ class ShapeMatchingModel final : public SoftBody {
   const Eigen::Matrix3Xd& predicted_positions() const { return predicted_; }
 
  private:
-  void bind_constraints(std::span<const PositionConstraint> constraints);
-  void unbind_constraints(std::span<const PositionConstraint> constraints);
-  const PositionConstraint* constraint_of(int vertex,
-                                          std::span<const PositionConstraint> constraints) const;
   /// v* and x* of one particle (or its target, for an exact constraint).
   void predict(int vertex, double dt, const StepInput& input);
   /// The alpha pull toward the particle's goal, and the integration.
-  void pull(int vertex, double dt, const StepInput& input);
+  void pull(int vertex, double dt);
 
   ShapeMatchingParams params_;
   int num_vertices_ = 0;
@@ -74,7 +71,7 @@ class ShapeMatchingModel final : public SoftBody {
   Eigen::Matrix3Xd predicted_;           ///< x*
   Eigen::VectorXd squared_residuals_;    ///< |g - x*|^2 per particle (0 if exactly held)
   std::vector<int> cluster_iterations_;  ///< rotation iterations per cluster
-  std::vector<int> constraint_index_;    ///< per vertex, into the step's constraints; -1 none
+  VertexConstraints constraints_;        ///< the step's constraint per vertex
 };
 
 }  // namespace softbench::shape_matching
