@@ -5,6 +5,7 @@
 #include "collision/tri_tri_batch_lanes.h"
 #include "collision/tri_tri_projection.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cstdint>
 #include <cstring>
@@ -123,6 +124,36 @@ Eigen::Vector3d TriangleSoA::vertex(std::size_t i, int k) const {
   }
 }
 
+namespace {
+
+/// Lanes of the ragged tail [first, size) copied into one full block, padded with copies of the
+/// tail's last pair, so that the tail runs through the kernel too rather than the scalar test
+/// (on leaf-sized batches of 10-100 pairs the tail is a large share).
+struct TailBlock {
+  static constexpr std::size_t kMaxLanes = 8;
+  double a[9][kMaxLanes];
+  double b[9][kMaxLanes];
+
+  static Columns columns_of(const double (&c)[9][kMaxLanes]) {
+    return {c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7], c[8]};
+  }
+  static void fill(double (&c)[9][kMaxLanes],
+                   const TriangleSoA& t,
+                   std::size_t first,
+                   std::size_t lanes) {
+    const std::vector<double>* const source[9] = {&t.x0, &t.y0, &t.z0, &t.x1, &t.y1,
+                                                  &t.z1, &t.x2, &t.y2, &t.z2};
+    for (std::size_t l = 0; l < lanes; ++l) {
+      const std::size_t i = std::min(first + l, t.size() - 1);
+      for (int k = 0; k < 9; ++k) {
+        c[k][l] = (*source[k])[i];
+      }
+    }
+  }
+};
+
+}  // namespace
+
 BatchStats tri_tri_batch(const TriangleSoA& a,
                          const TriangleSoA& b,
                          std::span<std::uint8_t> intersect) {
@@ -132,9 +163,17 @@ BatchStats tri_tri_batch(const TriangleSoA& a,
   const Dispatch d = dispatch();
   const std::size_t blocked = a.size() / d.lanes * d.lanes;
   d.kernel(columns(a), columns(b), blocked, intersect.data());
-  // The lanes left undecided, and the ragged tail, by the scalar exact test.
+  if (blocked < a.size()) {
+    TailBlock tail;
+    TailBlock::fill(tail.a, a, blocked, d.lanes);
+    TailBlock::fill(tail.b, b, blocked, d.lanes);
+    std::uint8_t status[TailBlock::kMaxLanes];
+    d.kernel(TailBlock::columns_of(tail.a), TailBlock::columns_of(tail.b), d.lanes, status);
+    std::copy(status, status + (a.size() - blocked), intersect.data() + blocked);
+  }
+  // The lanes the bounds left undecided, by the scalar exact test.
   for (std::size_t i = 0; i < a.size(); ++i) {
-    if (i < blocked && intersect[i] != kLaneUndecided) {
+    if (intersect[i] != kLaneUndecided) {
       continue;
     }
     ++stats.exact_fallbacks;

@@ -71,6 +71,17 @@ TEST(TriTriBatch, EqualsTheScalarProjectionTestOnScaledPairs) {
   }
 }
 
+TEST(TriTriBatch, EveryRaggedTailLengthRunsThroughTheLanesWithTheSameAnswers) {
+  // Sizes 1 to 3 blocks, so that every tail length (padded into a block of its own) occurs for
+  // both lane widths, on pairs that intersect and pairs that do not.
+  const std::vector<TriPair>& random = *random_set().pairs;
+  for (std::size_t size = 1; size <= 24; ++size) {
+    const std::vector<TriPair> pairs(random.begin() + static_cast<std::ptrdiff_t>(size),
+                                     random.begin() + static_cast<std::ptrdiff_t>(2 * size));
+    EXPECT_EQ(batch_mismatches(pairs, "ragged"), 0u) << "size " << size;
+  }
+}
+
 TEST(TriTriBatch, EmptyInputIsFine) {
   const TriangleSoA none;
   std::vector<std::uint8_t> answer;
