@@ -20,6 +20,7 @@
 // contacts and contact points (the analogue of our segments).
 // Counters: refit_us and query_us split the frame; pairs is the intersecting-pair count.
 // BM_Compare times hybrid, sphere and AABB interleaved (see run_compare) for the goal check.
+#include "bench/thread_cpu_clock.h"
 #include "collision/bvh.h"
 #include "collision/bvh_collide.h"
 #include "collision/bvh_schedule.h"
@@ -38,7 +39,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
-#include <ctime>
 #include <memory>
 #include <string>
 #include <vector>
@@ -46,13 +46,9 @@
 namespace softbench::collision {
 namespace {
 
-// Parts are timed on the thread's CPU clock: on a shared machine wall time includes time the
-// thread was descheduled. Its cost (~0.2 us a call) is in the counters, not the frame time.
-double thread_cpu_us() {
-  timespec now{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
-  return static_cast<double>(now.tv_sec) * 1e6 + static_cast<double>(now.tv_nsec) * 1e-3;
-}
+// Parts are timed on the thread's CPU clock (bench/thread_cpu_clock.h); the clock's own cost is
+// in the counters, not the frame time.
+using bench::thread_cpu_us;
 
 constexpr std::array<int, 8> kTargetPairs = {0, 32, 97, 279, 534, 733, 925, 1106};
 constexpr double kBreathing = 1e-4;   // m: largest vertex displacement between the two sets

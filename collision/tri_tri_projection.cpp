@@ -650,36 +650,22 @@ TriTriResult projection_exact(const Triangle& a, const Triangle& b_input) {
   return segment_result(points[low], points[high]);
 }
 
-}  // namespace
-
-TriTriResult tri_tri_projection(const Vec3& p0,
-                                const Vec3& p1,
-                                const Vec3& p2,
-                                const Vec3& q0,
-                                const Vec3& q1,
-                                const Vec3& q2) {
-  // Step 1: B's vertices against H, z* = N . (Q_i - P1) with N = (P2 - P1) x (P0 - P1), signs
-  // certified by a bound computed once for the three (semi-static filter).
-  const Vec3 e1 = p2 - p1;
-  const Vec3 e2 = p0 - p1;
-  const Vec3 normal = e1.cross(e2);
+/// Step 1 done and certified, not case (b): everything after it. A function of its own, kept out
+/// of line, so that the common early out of case (b) does not set up this part's stack frame.
+[[gnu::noinline]] TriTriResult projection_after_step_1(const Vec3& p0,
+                                                       const Vec3& p1,
+                                                       const Vec3& p2,
+                                                       const Vec3& q0,
+                                                       const Vec3& q1,
+                                                       const Vec3& q2,
+                                                       const Vec3& e1,
+                                                       const Vec3& e2,
+                                                       const Vec3& normal,
+                                                       const std::array<double, 3>& z,
+                                                       double m_a,
+                                                       double m_w,
+                                                       SideMasks sz) {
   const std::array<Vec3, 3> w = {q0 - p1, q1 - p1, q2 - p1};
-  const std::array<double, 3> z = {normal.dot(w[0]), normal.dot(w[1]), normal.dot(w[2])};
-  const double m_a = std::max(max_abs(e1), max_abs(e2));
-  const double m_w = std::max({max_abs(w[0]), max_abs(w[1]), max_abs(w[2])});
-  if (!(std::max(m_a, m_w) < kMaxMagnitude)) {
-    return projection_exact({p0, p1, p2}, {q0, q1, q2});  // the bounds could overflow
-  }
-  const SideMasks sz = side_masks(z, kSideBound * m_a * m_a * m_w + kUnderflowFloor);
-  // Case (b): B strictly on one side of H (the common early out).
-  if (sz.one_side()) {
-    return {};
-  }
-  if (!sz.all_decided()) {
-    // A vertex of B on H or within rounding of it: exact signs, all cases of figure 4.14.
-    return projection_exact({p0, p1, p2}, {q0, q1, q2});
-  }
-
   // Case (f) with certified signs (A and B are then proper triangles): Q0 alone on its side.
   const int first = sz.alone();
   const std::array<int, 3> k = {first, (first + 1) % 3, (first + 2) % 3};
@@ -799,6 +785,38 @@ TriTriResult tri_tri_projection(const Vec3& p0,
   const bool chord_ends = c_high * sl_high <= l_high * sc_high;
   return segment_result(chord_starts ? a_point(a_low) : b_point(b_low),
                         chord_ends ? a_point(a_high) : b_point(b_high));
+}
+
+}  // namespace
+
+TriTriResult tri_tri_projection(const Vec3& p0,
+                                const Vec3& p1,
+                                const Vec3& p2,
+                                const Vec3& q0,
+                                const Vec3& q1,
+                                const Vec3& q2) {
+  // Step 1: B's vertices against H, z* = N . (Q_i - P1) with N = (P2 - P1) x (P0 - P1), signs
+  // certified by a bound computed once for the three (semi-static filter).
+  const Vec3 e1 = p2 - p1;
+  const Vec3 e2 = p0 - p1;
+  const Vec3 normal = e1.cross(e2);
+  const Vec3 w0 = q0 - p1, w1 = q1 - p1, w2 = q2 - p1;
+  const std::array<double, 3> z = {normal.dot(w0), normal.dot(w1), normal.dot(w2)};
+  const double m_a = std::max(max_abs(e1), max_abs(e2));
+  const double m_w = std::max({max_abs(w0), max_abs(w1), max_abs(w2)});
+  if (!(std::max(m_a, m_w) < kMaxMagnitude)) {
+    return projection_exact({p0, p1, p2}, {q0, q1, q2});  // the bounds could overflow
+  }
+  const SideMasks sz = side_masks(z, kSideBound * m_a * m_a * m_w + kUnderflowFloor);
+  // Case (b): B strictly on one side of H (the common early out).
+  if (sz.one_side()) {
+    return {};
+  }
+  if (!sz.all_decided()) {
+    // A vertex of B on H or within rounding of it: exact signs, all cases of figure 4.14.
+    return projection_exact({p0, p1, p2}, {q0, q1, q2});
+  }
+  return projection_after_step_1(p0, p1, p2, q0, q1, q2, e1, e2, normal, z, m_a, m_w, sz);
 }
 
 }  // namespace softbench::collision
