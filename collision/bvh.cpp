@@ -180,6 +180,9 @@ void Bvh::refit(const Eigen::Matrix3Xd& positions) {
     node->sphere.center = center;
     node->sphere.radius = padded_radius(std::sqrt(radius_squared), center);
   }
+  if (!nodes_.empty()) {
+    coordinate_magnitude_ = collision::coordinate_magnitude(nodes_.front().box);
+  }
 }
 
 }  // namespace softbench::collision

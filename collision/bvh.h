@@ -97,6 +97,9 @@ class Bvh {
   const BvhSchedule& schedule() const { return schedule_; }
   const BvhBuildInfo& info() const { return info_; }
   int num_vertices() const { return num_vertices_; }
+  /// The largest coordinate magnitude at the last refit (the root box's): what
+  /// circumspheres_overlap needs to bound its round-off, kept so a query does not recompute it.
+  double coordinate_magnitude() const { return coordinate_magnitude_; }
   int num_triangles() const { return static_cast<int>(slot_triangle_.size()); }
 
   /// Original triangle indices of a leaf.
@@ -116,6 +119,7 @@ class Bvh {
   BvhSchedule schedule_;
   BvhBuildInfo info_;
   int num_vertices_ = 0;
+  double coordinate_magnitude_ = 0.0;
   std::vector<BvhNode> nodes_;
   std::vector<int> slot_triangle_;
   Eigen::Matrix3Xi slot_vertices_;

@@ -109,8 +109,7 @@ void collect_candidates(const Bvh& tree_a,
   stack[static_cast<std::size_t>(top++)] = {0, 0};
   const std::vector<BvhNode>& nodes_a = tree_a.nodes();
   const std::vector<BvhNode>& nodes_b = tree_b.nodes();
-  const double magnitude = std::max(coordinate_magnitude(nodes_a.front().box),
-                                    coordinate_magnitude(nodes_b.front().box));
+  const double magnitude = std::max(tree_a.coordinate_magnitude(), tree_b.coordinate_magnitude());
   while (top > 0) {
     const auto [index_a, index_b] = stack[static_cast<std::size_t>(--top)];
     const BvhNode& a = nodes_a[static_cast<std::size_t>(index_a)];
