@@ -4,6 +4,8 @@
 #include "geometry/tet_mesh.h"
 #include "models/soft_body.h"
 
+#include <benchmark/benchmark.h>
+
 #include <string>
 #include <vector>
 
@@ -16,5 +18,39 @@ const TetMesh& shipped_liver(const std::string& name);
 
 /// Exact pins on the vertices in the lowest 10% of the x extent: the benchmarks' fixed region.
 std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh);
+
+/// Sums of a run's StepStats, and the counters every model benchmark reports from them.
+struct StepTotals {
+  double iterations = 0.0;
+  double factorizations = 0.0;
+  double residuals = 0.0;
+  double linear_solves = 0.0;
+  bool finite = true;
+
+  void add(const StepStats& stats) {
+    iterations += stats.iterations;
+    factorizations += stats.factorizations;
+    residuals += stats.residual;
+    linear_solves += stats.linear_solves;
+    finite = finite && stats.finite;
+  }
+
+  /// steps_per_s (a rate) and the means per step of iterations, factorizations, residual and
+  /// linear solves, over state.iterations() steps. False, with the benchmark marked as an error,
+  /// if a step blew up: the timings would be of NaN arithmetic.
+  bool report(benchmark::State& state) const {
+    if (!finite) {
+      state.SkipWithError("the model blew up: the timings are of NaN arithmetic");
+      return false;
+    }
+    const auto steps = static_cast<double>(state.iterations());
+    state.counters["steps_per_s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
+    state.counters["mean_iterations"] = iterations / steps;
+    state.counters["mean_factorizations"] = factorizations / steps;
+    state.counters["mean_residual"] = residuals / steps;
+    state.counters["mean_linear_solves"] = linear_solves / steps;
+    return true;
+  }
+};
 
 }  // namespace softbench::bench

@@ -184,28 +184,19 @@ void step_benchmark(benchmark::State& state, const Variant& variant, const std::
   for (int step = 0; step < kWarmUpSteps; ++step) {
     setting.body->step(dt, setting.input);
   }
-  double iterations = 0.0;
-  double solves = 0.0;
-  bool finite = true;
+  bench::StepTotals totals;
   double seconds = 0.0;
   while (state.KeepRunningBatch(kStepsPerBatch)) {
     const Clock::time_point start = Clock::now();
     for (int step = 0; step < kStepsPerBatch; ++step) {
-      const StepStats stats = setting.body->step(dt, setting.input);
-      iterations += stats.iterations;
-      solves += stats.linear_solves;
-      finite = finite && stats.finite;
+      totals.add(setting.body->step(dt, setting.input));
     }
     seconds += std::chrono::duration<double>(Clock::now() - start).count();
   }
-  if (!finite) {
-    state.SkipWithError("the model blew up: the timings are of NaN arithmetic");
+  if (!totals.report(state)) {
     return;
   }
   const auto steps = static_cast<double>(state.iterations());
-  state.counters["steps_per_s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
-  state.counters["mean_iterations"] = iterations / steps;
-  state.counters["mean_linear_solves"] = solves / steps;
   state.counters["dt_s"] = dt;
   state.counters["vertices"] = mesh.num_vertices();
   const double step_seconds = seconds / steps;

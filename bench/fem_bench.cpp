@@ -175,25 +175,16 @@ void fem_step(benchmark::State& state,
   }
 
   PhaseTimes phases;
-  double iterations = 0.0;
-  double factorizations = 0.0;
-  bool finite = true;
+  bench::StepTotals totals;
   while (state.KeepRunningBatch(kStepsPerBatch)) {
     for (int step = 0; step < kStepsPerBatch; ++step) {
-      const StepStats stats = model.step_timed(kDt, input, &phases);
-      iterations += stats.iterations;
-      factorizations += stats.factorizations;
-      finite = finite && stats.finite;
+      totals.add(model.step_timed(kDt, input, &phases));
     }
   }
-  if (!finite) {
-    state.SkipWithError("the model blew up: the timings are of NaN arithmetic");
+  if (!totals.report(state)) {
     return;
   }
   const auto steps = static_cast<double>(state.iterations());
-  state.counters["steps_per_s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
-  state.counters["mean_iterations"] = iterations / steps;
-  state.counters["mean_factorizations"] = factorizations / steps;
   state.counters["rotations_ms"] = 1e3 * phases.rotations / steps;
   state.counters["assembly_ms"] = 1e3 * phases.assembly / steps;
   state.counters["solve_ms"] = 1e3 * phases.solve / steps;

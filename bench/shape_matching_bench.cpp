@@ -239,24 +239,14 @@ void liver_benchmark(benchmark::State& state, const Params& params, int threads)
   for (int step = 0; step < kWarmUpSteps; ++step) {
     body->step(kDt, input);
   }
-  double iterations = 0.0;
-  double residuals = 0.0;
-  bool finite = true;
+  bench::StepTotals totals;
   for (auto _ : state) {
-    const StepStats stats = body->step(kDt, input);
-    iterations += stats.iterations;
-    residuals += stats.residual;
-    finite = finite && stats.finite;
+    totals.add(body->step(kDt, input));
   }
   omp_set_num_threads(1);
-  if (!finite) {
-    state.SkipWithError("the model blew up: the timings are of NaN arithmetic");
+  if (!totals.report(state)) {
     return;
   }
-  const auto steps = static_cast<double>(state.iterations());
-  state.counters["steps_per_s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
-  state.counters["mean_rotation_iterations"] = iterations / steps;
-  state.counters["mean_residual"] = residuals / steps;
   state.counters["vertices"] = mesh.num_vertices();
   state.counters["threads"] = threads;
   const auto& model = dynamic_cast<const shape_matching::ShapeMatchingModel&>(*body);

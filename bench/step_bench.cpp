@@ -76,28 +76,15 @@ void step_benchmark(benchmark::State& state, const Variant& variant, const std::
     body->step(variant.dt, input);
   }
 
-  double iterations = 0.0;
-  double factorizations = 0.0;
-  double residuals = 0.0;
-  bool finite = true;
+  bench::StepTotals totals;
   while (state.KeepRunningBatch(kStepsPerBatch)) {
     for (int step = 0; step < kStepsPerBatch; ++step) {
-      const StepStats stats = body->step(variant.dt, input);
-      iterations += stats.iterations;
-      factorizations += stats.factorizations;
-      residuals += stats.residual;
-      finite = finite && stats.finite;
+      totals.add(body->step(variant.dt, input));
     }
   }
-  if (!finite) {
-    state.SkipWithError("the model blew up: the timings are of NaN arithmetic");
+  if (!totals.report(state)) {
     return;
   }
-  const auto steps = static_cast<double>(state.iterations());
-  state.counters["steps_per_s"] = benchmark::Counter(steps, benchmark::Counter::kIsRate);
-  state.counters["mean_iterations"] = iterations / steps;
-  state.counters["mean_factorizations"] = factorizations / steps;
-  state.counters["mean_residual"] = residuals / steps;
   state.counters["dt_s"] = variant.dt;
   state.counters["vertices"] = mesh.num_vertices();
 }

@@ -5,6 +5,7 @@
 #include "models/soft_body.h"
 
 #include <Eigen/Core>
+#include <gtest/gtest.h>
 
 #include <span>
 #include <vector>
@@ -48,6 +49,38 @@ inline void place_at_rest(SoftBody& body, const Eigen::Matrix3Xd& targets) {
   constexpr double kDt = 0.01;
   body.step(kDt, no_gravity(pins));
   body.step(kDt, no_gravity(pins));
+}
+
+/// Kinetic energy of the body's velocities with lumped `masses` (#V), J.
+inline double kinetic_energy(const SoftBody& body, const Eigen::VectorXd& masses) {
+  return 0.5
+         * (body.velocities().colwise().squaredNorm().transpose().array() * masses.array()).sum();
+}
+
+/// Steps the body under `input` (gravity, with `pins` among its constraints) at 30 Hz until it
+/// is at rest (kinetic energy below 1e-20 J, velocities ~1e-10 m/s), then expects the reactions
+/// to balance its weight to 1e-6 relative and to act at the pinned vertices only.
+inline void expect_reactions_balance_weight_at_rest(SoftBody& body,
+                                                    const Eigen::VectorXd& masses,
+                                                    const StepInput& input,
+                                                    std::span<const PositionConstraint> pins) {
+  constexpr double kRestKineticEnergy = 1e-20;
+  int step = 0;
+  for (; step < 5000 && (step < 10 || kinetic_energy(body, masses) > kRestKineticEnergy); ++step) {
+    ASSERT_TRUE(body.step(1.0 / 30.0, input).finite);
+  }
+  ASSERT_LE(kinetic_energy(body, masses), kRestKineticEnergy) << "not at rest after " << step;
+
+  const Eigen::Vector3d weight = masses.sum() * input.gravity;
+  const Eigen::Vector3d total_reaction = body.constraint_forces().rowwise().sum();
+  constexpr double kBalance = 1e-6;  // the requirement: 1e-6 relative to the weight
+  EXPECT_LT((total_reaction + weight).norm(), kBalance * weight.norm())
+      << "reaction " << total_reaction.transpose() << ", weight " << weight.transpose();
+  Eigen::Matrix3Xd unpinned = body.constraint_forces();
+  for (const PositionConstraint& pin : pins) {
+    unpinned.col(pin.vertex).setZero();
+  }
+  EXPECT_TRUE(unpinned.isZero(0.0));  // reactions act only at the pinned vertices
 }
 
 }  // namespace softbench::test

@@ -31,6 +31,7 @@
 namespace softbench {
 namespace {
 
+using test::kinetic_energy;
 using test::no_gravity;
 using test::pin_all;
 using test::pin_min_x_face;
@@ -91,11 +92,6 @@ Params converged_quaternion() {
   params.rotation_iterations = 200;
   params.rotation_tolerance = 1e-14;
   return params;
-}
-
-double kinetic_energy(const SoftBody& body, const Eigen::VectorXd& masses) {
-  return 0.5
-         * (body.velocities().colwise().squaredNorm().transpose().array() * masses.array()).sum();
 }
 
 double rms(const Eigen::Matrix3Xd& vectors) {
@@ -325,7 +321,6 @@ TEST(CorotationalFem, PinnedVerticesNeverMoveWithAnySolver) {
 TEST(CorotationalFem, ReactionsBalanceGravityAtRest) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.15, 0.1, 0.1));
   const Eigen::VectorXd masses = lumped_masses(mesh, kMaterial.density);
-  const Eigen::Vector3d weight = masses.sum() * StepInput{}.gravity;
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
@@ -334,23 +329,7 @@ TEST(CorotationalFem, ReactionsBalanceGravityAtRest) {
     Params params = with_solver(solver, /*cg_tolerance=*/1e-12);
     params.rayleigh_mass = 2.0;  // 1/s: settles in a few hundred steps
     auto body = make_corotational_fem(mesh, kMaterial, params);
-    constexpr double kRestKineticEnergy = 1e-20;  // J: velocities ~1e-10 m/s
-    int step = 0;
-    for (; step < 5000 && (step < 10 || kinetic_energy(*body, masses) > kRestKineticEnergy);
-         ++step) {
-      ASSERT_TRUE(body->step(1.0 / 30.0, input).finite);
-    }
-    ASSERT_LE(kinetic_energy(*body, masses), kRestKineticEnergy) << "not at rest after " << step;
-
-    const Eigen::Vector3d total_reaction = body->constraint_forces().rowwise().sum();
-    constexpr double kBalance = 1e-6;  // the requirement: 1e-6 relative to the weight
-    EXPECT_LT((total_reaction + weight).norm(), kBalance * weight.norm())
-        << "reaction " << total_reaction.transpose() << ", weight " << weight.transpose();
-    Eigen::Matrix3Xd unpinned = body->constraint_forces();
-    for (const PositionConstraint& pin : pins) {
-      unpinned.col(pin.vertex).setZero();
-    }
-    EXPECT_TRUE(unpinned.isZero(0.0));  // reactions act only at the pinned vertices
+    test::expect_reactions_balance_weight_at_rest(*body, masses, input, pins);
   }
 }
 
