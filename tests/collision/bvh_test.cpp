@@ -385,6 +385,40 @@ TEST(BvhCollide, FindsExactlyTheBruteForcePairsWithTheProjectionTest) {
   EXPECT_GT(without, 4);
 }
 
+// Boxes that only touch (at a corner, along an edge, over a face) meet in closed sets, and the
+// hybrid schedules' circumsphere tests are then exactly tangent at the touching corner: far from
+// the origin, where the tests' sums round relative to the coordinates' magnitude, no schedule may
+// lose a touching pair. Sizes and offsets are dyadic, so the meshes touch exactly.
+TEST(BvhCollide, TouchingBoxesFarFromTheOriginAreFoundByEverySchedule) {
+  const Eigen::Vector3d size(0.375, 0.75, 0.5);
+  const TriMesh box = box_surface(2, size);
+  const Eigen::Vector3d touches[] = {size, Eigen::Vector3d(size.x(), size.y(), 0.0),
+                                     Eigen::Vector3d(size.x(), 0.0, 0.0)};
+  CollideBuffers buffers;
+  std::vector<TrianglePair> pairs;
+  for (const double offset : {0.0, 1024.125, -7340032.25, 1099511627776.5 /* 2^40 + 0.5 */}) {
+    const Eigen::Matrix3Xd positions_a = box.vertices.array() + offset;
+    for (const Eigen::Vector3d& touch : touches) {
+      const Eigen::Matrix3Xd positions_b = (box.vertices.colwise() + touch).array() + offset;
+      const auto expected =
+          brute_force_pairs(box, positions_a, box, positions_b, tri_tri_projection);
+      ASSERT_FALSE(expected.empty()) << "offset " << offset << ", touch " << touch.transpose();
+      for (const NamedSchedule& schedule_a : schedules()) {
+        Bvh tree_a(box.vertices, box.triangles, schedule_a.schedule);
+        tree_a.refit(positions_a);
+        for (const NamedSchedule& schedule_b : schedules()) {
+          Bvh tree_b(box.vertices, box.triangles, schedule_b.schedule);
+          tree_b.refit(positions_b);
+          collide(tree_a, positions_a, tree_b, positions_b, buffers, pairs);
+          EXPECT_EQ(sorted_indices(pairs), expected)
+              << schedule_a.name << " vs " << schedule_b.name << ", offset " << offset << ", touch "
+              << touch.transpose();
+        }
+      }
+    }
+  }
+}
+
 TEST(BvhCollide, EveryNamedMethodAgreesWithItsFunctionAndBatchedWithProjection) {
   std::mt19937 rng(16);
   TriMesh mesh_a = icosphere(3, 1.0);
