@@ -171,7 +171,8 @@ void Bvh::refit(const Eigen::Matrix3Xd& positions) {
         const BvhNode& child = nodes_[static_cast<std::size_t>(child_index)];
         double reach_squared = farthest_squared_distance(child.box, center);
         if (child.has_sphere()) {
-          const double reach = (child.sphere.center - center).norm() + child.sphere.radius;
+          const Sphere sphere = child.sphere_of();  // a box-tested child stores none
+          const double reach = (sphere.center - center).norm() + sphere.radius;
           reach_squared = std::min(reach_squared, reach * reach);
         }
         radius_squared = std::max(radius_squared, reach_squared);

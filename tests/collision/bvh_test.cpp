@@ -39,7 +39,15 @@ std::vector<NamedSchedule> schedules() {
           {"all_sphere", BvhSchedule::all_sphere()},
           {"all_aabb", BvhSchedule::all_aabb()},
           {"mixed_leaf3", BvhSchedule::layered(1, 2, 20, 3)},
-          {"depth_limited", BvhSchedule::layered(1, 1, 1, 2)}};
+          {"depth_limited", BvhSchedule::layered(1, 1, 1, 2)},
+          // Sphere-only levels (no tie-breaker) above box-tested sphere levels: the parents'
+          // radii are bounded through children whose spheres are the boxes' circumspheres.
+          {"spheres_over_hybrid",
+           BvhSchedule{{VolumeKind::kSphere, VolumeKind::kSphere, VolumeKind::kSphereAabb,
+                        VolumeKind::kSphereAabb, VolumeKind::kAabb, VolumeKind::kAabb,
+                        VolumeKind::kAabb, VolumeKind::kAabb},
+                       4,
+                       /*box_tie_breaker=*/false}}};
 }
 
 // A test-only narrow phase independent of collision/tri_tri_*: the separating-axis test over the
