@@ -11,6 +11,7 @@
 #include "models/model_registry.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -357,17 +358,36 @@ void write_sweep_table(const std::filesystem::path& out_dir,
     json["fastest_within"][std::to_string(static_cast<int>(std::lround(100 * budget))) + "%"] =
         best ? to_json(*best) : nlohmann::json(nullptr);
   }
+  // Header and rows from one list of record keys, so a column added to to_json(SweepRecord)
+  // cannot shift the others. Settings are one quoted cell (with ' for ").
+  constexpr std::array<const char*, 11> kColumns = {"id",
+                                                    "model",
+                                                    "dt",
+                                                    "settings",
+                                                    "stable",
+                                                    "steps_per_second",
+                                                    "realtime_factor",
+                                                    "rms_error",
+                                                    "max_error",
+                                                    "volume_error",
+                                                    "peak_force_error"};
   std::ostringstream csv;
-  csv << "id,model,dt,settings,stable,steps_per_second,realtime_factor,rms_error,max_error,"
-         "volume_error,peak_force_error\n";
+  for (std::size_t c = 0; c < kColumns.size(); ++c) {
+    csv << (c > 0 ? "," : "") << kColumns[c];
+  }
+  csv << "\n";
   for (const SweepRecord& record : records) {
     const nlohmann::json row = to_json(record);
-    std::string settings = record.point.settings.dump();
-    std::replace(settings.begin(), settings.end(), '"', '\'');
-    csv << record.point.id << "," << record.point.model << "," << record.point.dt << ",\""
-        << settings << "\"," << (record.stable ? "true" : "false") << "," << record.steps_per_second
-        << "," << row["rms_error"].dump() << "," << row["max_error"].dump() << ","
-        << row["volume_error"].dump() << "," << row["peak_force_error"].dump() << "\n";
+    for (std::size_t c = 0; c < kColumns.size(); ++c) {
+      const nlohmann::json& cell = row.at(kColumns[c]);
+      std::string text = cell.is_string() ? cell.get<std::string>() : cell.dump();
+      if (cell.is_object()) {
+        std::replace(text.begin(), text.end(), '"', '\'');
+        text = "\"" + text + "\"";
+      }
+      csv << (c > 0 ? "," : "") << text;
+    }
+    csv << "\n";
   }
   std::filesystem::create_directories(out_dir);
   const std::string text = json.dump(2) + "\n";

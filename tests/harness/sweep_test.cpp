@@ -12,7 +12,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
+#include <sstream>
 
 namespace softbench::harness {
 namespace {
@@ -146,6 +148,48 @@ TEST(SweepTable, ParetoFrontKeepsOnlyUnbeatenRunsPerModel) {
   EXPECT_EQ(fastest_within(records, 0.05)->point.id, "a10.000000");
   EXPECT_EQ(fastest_within(records, 0.6)->point.id, "b1000.000000");  // the unstable one is out
   EXPECT_FALSE(fastest_within(records, 0.001).has_value());
+}
+
+TEST(SweepTable, CsvRowsLineUpWithTheHeader) {
+  test::TempDir dir;
+  SweepRecord r = record("a", 120, 0.25);
+  r.point.dt = 0.5;
+  r.point.settings = {{"cg_tolerance", 0.01}, {"solver", "cg"}};
+  write_sweep_table(dir.path(), "scene", {r});
+  std::ifstream in(dir.path() / "sweep.csv");
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  // The settings cell is the only one with commas: split it out, then compare cell by cell.
+  const auto quote = row.find('"');
+  const auto unquote = row.find('"', quote + 1);
+  ASSERT_NE(unquote, std::string::npos) << row;
+  EXPECT_EQ(row.substr(quote, unquote - quote + 1), "\"{'cg_tolerance':0.01,'solver':'cg'}\"");
+  row.replace(quote, unquote - quote + 1, "SETTINGS");
+  auto cells = [](const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream stream(line);
+    for (std::string cell; std::getline(stream, cell, ',');) {
+      out.push_back(cell);
+    }
+    return out;
+  };
+  const std::vector<std::string> names = cells(header);
+  const std::vector<std::string> values = cells(row);
+  ASSERT_EQ(names.size(), values.size()) << header << "\n" << row;
+  std::map<std::string, std::string> by_name;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    by_name[names[i]] = values[i];
+  }
+  EXPECT_EQ(by_name["id"], r.point.id);
+  EXPECT_EQ(by_name["model"], "a");
+  EXPECT_EQ(by_name["settings"], "SETTINGS");
+  EXPECT_EQ(by_name["stable"], "true");
+  EXPECT_EQ(std::stod(by_name["steps_per_second"]), 120.0);
+  EXPECT_EQ(std::stod(by_name["realtime_factor"]), 60.0);  // steps/s x dt
+  EXPECT_EQ(std::stod(by_name["rms_error"]), 0.25);
+  EXPECT_EQ(std::stod(by_name["volume_error"]), 0.25);
+  EXPECT_EQ(by_name["peak_force_error"], "null");
 }
 
 TEST(Recommend, PicksTheFastestRunMeetingEveryRequirementAndSaysWhatOthersMiss) {
