@@ -25,15 +25,12 @@ bool volumes_overlap(const BvhNode& a, const BvhNode& b, double magnitude, Query
     }
   }
   if (a.has_box() && b.has_box()) {
-    ++stats.box_tests;
     return overlap(a.box, b.box);
   }
   if (a.has_sphere() && b.has_box()) {
-    ++stats.mixed_tests;
     return overlap(a.sphere, b.box);
   }
   if (a.has_box() && b.has_sphere()) {
-    ++stats.mixed_tests;
     return overlap(a.box, b.sphere);
   }
   return true;  // both sphere-only, and the spheres overlap
@@ -59,8 +56,7 @@ void leaf_pair(const Bvh& tree_a,
                const Bvh& tree_b,
                const Eigen::Matrix3Xd& positions_b,
                const BvhNode& leaf_b,
-               CollideBuffers& buffers,
-               QueryStats& stats) {
+               CollideBuffers& buffers) {
   const Eigen::Matrix3Xi& slots_a = tree_a.slot_vertices();
   const Eigen::Matrix3Xi& slots_b = tree_b.slot_vertices();
   buffers.kept_slots.clear();
@@ -72,7 +68,6 @@ void leaf_pair(const Bvh& tree_a,
       buffers.kept_boxes.push_back(box);
     }
   }
-  const std::size_t before = buffers.candidates.size();
   if (!buffers.kept_slots.empty()) {
     for (int sa = leaf_a.first; sa < leaf_a.first + leaf_a.count; ++sa) {
       const Aabb box = triangle_box(positions_a, slots_a, sa);
@@ -86,8 +81,6 @@ void leaf_pair(const Bvh& tree_a,
       }
     }
   }
-  const auto added = static_cast<std::int64_t>(buffers.candidates.size() - before);
-  stats.triangle_boxes_culled += static_cast<std::int64_t>(leaf_a.count) * leaf_b.count - added;
 }
 
 }  // namespace
@@ -120,7 +113,7 @@ void collect_candidates(const Bvh& tree_a,
     }
     if (a.is_leaf() && b.is_leaf()) {
       ++stats.leaf_visits;
-      leaf_pair(tree_a, positions_a, a, tree_b, positions_b, b, buffers, stats);
+      leaf_pair(tree_a, positions_a, a, tree_b, positions_b, b, buffers);
       continue;
     }
     const bool descend_a = b.is_leaf() || (!a.is_leaf() && box_size(a) >= box_size(b));

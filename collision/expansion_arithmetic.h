@@ -163,13 +163,4 @@ inline int sign(std::span<const double> e) {
   return top > 0.0 ? 1 : (top < 0.0 ? -1 : 0);
 }
 
-/// The expansion's value rounded (the sum of its components from the smallest).
-inline double estimate(std::span<const double> e) {
-  double s = 0.0;
-  for (const double c : e) {
-    s += c;
-  }
-  return s;
-}
-
 }  // namespace softbench::collision::expansion

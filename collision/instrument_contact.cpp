@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace softbench::collision {
 namespace {
@@ -23,8 +24,16 @@ Aabb inflated(Aabb box, double by) {
   return box;
 }
 
-bool contains(const Aabb& box, const Eigen::Vector3d& point) {
-  return (point.array() >= box.min.array()).all() && (point.array() <= box.max.array()).all();
+// The closed, consistently oriented surfaces the inside/outside signs of MeshDistance need.
+void require_closed(const Eigen::Matrix3Xi& triangles, int num_vertices, const char* what) {
+  const SurfaceTopology topology = surface_topology(triangles, num_vertices);
+  if (!topology.closed_manifold() || !topology.oriented()) {
+    throw InputError(std::string("InstrumentContact: the ") + what
+                     + " is not a closed, consistently oriented surface ("
+                     + std::to_string(topology.boundary_edges) + " boundary, "
+                     + std::to_string(topology.non_manifold_edges) + " non-manifold, "
+                     + std::to_string(topology.misoriented_edges) + " misoriented edges)");
+  }
 }
 
 // Unit vector from `from` towards `to`, or `fallback` when they (nearly) coincide.
@@ -100,6 +109,8 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
       instrument_world_(instrument.vertices),
       samples_local_(
           surface_samples(instrument, sample_spacing(tissue_positions, tissue_surface))) {
+  require_closed(tissue_surface, static_cast<int>(tissue_positions.cols()), "tissue surface");
+  require_closed(instrument.triangles, instrument.num_vertices(), "instrument mesh");
   const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
   pressed_.assign(vertices, 0);
   has_move_.assign(vertices, 0);
@@ -154,12 +165,12 @@ void InstrumentContact::propose(int vertex,
 void InstrumentContact::resolve_tissue_vertices(const Eigen::Isometry3d& pose,
                                                 const Eigen::Matrix3Xd& positions) {
   const double margin = options_.margin;
-  const Aabb reach = inflated(fit_aabb(instrument_world_), 2.0 * margin);
+  const Aabb reach = inflated(instrument_tree_.nodes().front().box, 2.0 * margin);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (int vertex : surface_vertices_) {
     const Eigen::Vector3d x = positions.col(vertex);
     const Eigen::Vector3d free_flight = predicted_.col(vertex);
-    if (!contains(reach, x) && !contains(reach, free_flight) && !was_pressed(vertex)) {
+    if (!reach.contains(x) && !reach.contains(free_flight) && !was_pressed(vertex)) {
       continue;
     }
     const Eigen::Vector3d local = to_local * x;
@@ -188,7 +199,7 @@ void InstrumentContact::resolve_instrument_vertices() {
       inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
   for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
     const Eigen::Vector3d p = samples_world_.col(i);
-    if (!contains(reach, p)) {
+    if (!reach.contains(p)) {
       continue;
     }
     const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
@@ -235,8 +246,8 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   instrument_tree_.refit(instrument_world_);
   tissue_distance_.update(positions);
   predicted_distance_.update(predicted_);
-  collide(tissue_distance_.tree(), positions, instrument_tree_, instrument_world_, buffers_, pairs_,
-          &report_.query);
+  collide(tissue_distance_.tree(), positions, instrument_tree_, instrument_world_, buffers_,
+          pairs_);
   report_.triangle_pairs = static_cast<int>(pairs_.size());
 
   moved_.clear();
@@ -262,25 +273,23 @@ ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
   const Aabb instrument_box = fit_aabb(world);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (int vertex : surface_vertices_) {
-    if (!contains(instrument_box, positions.col(vertex))) {
+    if (!instrument_box.contains(positions.col(vertex))) {
       continue;
     }
     const double depth =
         -instrument_distance_.nearest(to_local * positions.col(vertex)).signed_distance;
     if (depth > 0.0) {
-      ++report.tissue_vertices_inside;
       report.max_penetration = std::max(report.max_penetration, depth);
     }
   }
   tissue_distance_.update(positions);
   const Aabb tissue_box = tissue_distance_.bounds();
   for (Eigen::Index i = 0; i < world.cols(); ++i) {
-    if (!contains(tissue_box, world.col(i))) {
+    if (!tissue_box.contains(world.col(i))) {
       continue;
     }
     const double depth = -tissue_distance_.nearest(world.col(i)).signed_distance;
     if (depth > 0.0) {
-      ++report.instrument_vertices_inside;
       report.max_penetration = std::max(report.max_penetration, depth);
     }
   }

@@ -47,11 +47,8 @@ struct VertexTarget {
 
 /// What one detection found.
 struct ContactReport {
-  int triangle_pairs = 0;              ///< intersecting tissue-instrument triangle pairs
-  int tissue_vertices_inside = 0;      ///< tissue vertices inside the instrument
-  int instrument_vertices_inside = 0;  ///< instrument vertices inside the tissue
-  double max_penetration = 0.0;        ///< m: the deepest of either kind
-  QueryStats query;
+  int triangle_pairs = 0;        ///< intersecting tissue-instrument triangle pairs (resolve)
+  double max_penetration = 0.0;  ///< m: the deepest tissue vertex or instrument point (measure)
 };
 
 struct InstrumentContactOptions {
@@ -91,7 +88,6 @@ class InstrumentContact {
   double instrument_distance(const Eigen::Isometry3d& pose, const Eigen::Vector3d& point) const;
 
   const ContactReport& report() const { return report_; }
-  const std::vector<int>& surface_vertices() const { return surface_vertices_; }
 
  private:
   void resolve_tissue_vertices(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);

@@ -52,8 +52,9 @@ class MeshDistance {
                BvhSchedule schedule = BvhSchedule::instrument());
 
   /// New vertex positions (3 x #V, same count): refits the tree and recomputes the
-  /// pseudonormals, O(#V + #T), no allocation. A rigid instrument may instead be queried in its
-  /// own frame (transform the query point), which needs no update at all.
+  /// pseudonormals, O(#V + #T), no allocation; nothing when they equal the current ones. A rigid
+  /// instrument may instead be queried in its own frame (transform the query point), which needs no
+  /// update at all.
   void update(const Eigen::Matrix3Xd& positions);
 
   /// The closest point of the mesh to `point`, its feature, and the sign from the pseudonormal

@@ -107,6 +107,7 @@ std::span<const PositionConstraint> Loading::constraints(double start,
     for (std::size_t k = 0; k < held; ++k) {
       held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;
     }
+    max_triangle_pairs_ = std::max(max_triangle_pairs_, contact_->report().triangle_pairs);
   }
   return constraints_;
 }
@@ -161,10 +162,6 @@ void Loading::observe(double end,
 
 int Loading::lost_contact_vertices() const {
   return static_cast<int>(std::count(lost_.begin(), lost_.end(), true));
-}
-
-int Loading::triangle_pairs() const {
-  return contact_ ? contact_->report().triangle_pairs : 0;
 }
 
 }  // namespace softbench::harness

@@ -38,15 +38,16 @@ class Loading {
   /// contact measures (penetration, vertices that lost contact) at the step's end.
   void observe(double end, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces);
 
-  bool has_instrument() const { return contact_ != nullptr; }
   double tool_displacement() const { return tool_displacement_; }  ///< m, at the last observe
   double tool_force() const { return tool_force_; }                ///< N, at the last observe
   double max_penetration() const { return max_penetration_; }      ///< m, over all observes
   /// m, over the observes from the instrument's start to its release.
   double max_penetration_pressing() const { return max_penetration_pressing_; }
   int lost_contact_vertices() const;
-  /// The instrument's intersecting triangle pairs at the last constraints() call.
-  int triangle_pairs() const;
+  /// The most intersecting tissue-instrument triangle pairs at any constraints() call (the
+  /// step's start): the thesis's measure of contact (table 4.2); 0 while the contact keeps the
+  /// tissue outside the instrument's margin.
+  int max_triangle_pairs() const { return max_triangle_pairs_; }
 
  private:
   bool grasp_holds(double time) const;
@@ -66,6 +67,7 @@ class Loading {
   double tool_force_ = 0.0;
   double max_penetration_ = 0.0;
   double max_penetration_pressing_ = 0.0;
+  int max_triangle_pairs_ = 0;
 };
 
 }  // namespace softbench::harness

@@ -39,6 +39,7 @@ nlohmann::json to_json(const ModelRun& run) {
   json["contact"] = {{"max_penetration", run.max_penetration},
                      {"max_penetration_pressing", run.max_penetration_pressing},
                      {"lost_contact_vertices", run.lost_contact_vertices},
+                     {"max_triangle_pairs", run.max_triangle_pairs},
                      {"peak_tool_force", run.peak_tool_force}};
   // Columns rather than records: a few hundred steps stay readable and small.
   nlohmann::json series = {{"time", nlohmann::json::array()},

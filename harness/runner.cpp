@@ -162,6 +162,7 @@ ModelRun run_model(const scenes::Scene& scene,
   run.max_penetration = loading.max_penetration();
   run.max_penetration_pressing = loading.max_penetration_pressing();
   run.lost_contact_vertices = loading.lost_contact_vertices();
+  run.max_triangle_pairs = loading.max_triangle_pairs();
   run.mean_iterations = run.steps_run > 0 ? total_iterations / run.steps_run : 0.0;
   run.final_elastic_energy = body->elastic_energy();
   run.final_reaction_sum = body->constraint_forces().rowwise().sum();

@@ -69,6 +69,7 @@ struct ModelRun {
   /// Surface vertices that were in contact and lost it while the instrument kept pressing
   /// (the thesis's "floats away" failure); 0 without an instrument.
   int lost_contact_vertices = 0;
+  int max_triangle_pairs = 0;       ///< Loading::max_triangle_pairs
   double peak_tool_force = 0.0;     ///< N: largest StepSample::tool_force
   std::vector<StepSample> samples;  ///< one per step run
   std::vector<Snapshot> snapshots;  ///< at RunOptions::snapshot_times reached before a blow-up

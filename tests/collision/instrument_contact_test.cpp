@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+#include "collision/instrument_contact.h"
+
+#include "geometry/input_error.h"
+#include "tests/collision/bvh_test_meshes.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace softbench::collision {
+namespace {
+
+using test::icosphere;
+using ::testing::HasSubstr;
+
+// The inside/outside signs need closed, consistently oriented surfaces: anything else is refused
+// with the offending mesh named, not simulated with meaningless signs.
+TEST(InstrumentContact, RefusesOpenOrMisorientedSurfaces) {
+  const TriMesh tissue = icosphere(2, 1.0);
+  const TriMesh instrument = icosphere(1, 0.2);
+  EXPECT_NO_THROW(InstrumentContact(tissue.vertices, tissue.triangles, instrument));
+
+  const Eigen::Matrix3Xi open = tissue.triangles.leftCols(tissue.triangles.cols() - 1);
+  try {
+    InstrumentContact contact(tissue.vertices, open, instrument);
+    FAIL() << "an open tissue surface was accepted";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("tissue surface"));
+    EXPECT_THAT(error.what(), HasSubstr("3 boundary"));
+  }
+
+  TriMesh flipped = instrument;
+  flipped.triangles.col(0).reverseInPlace();
+  try {
+    InstrumentContact contact(tissue.vertices, tissue.triangles, flipped);
+    FAIL() << "a misoriented instrument was accepted";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("instrument mesh"));
+    EXPECT_THAT(error.what(), HasSubstr("3 misoriented"));
+  }
+}
+
+}  // namespace
+}  // namespace softbench::collision
