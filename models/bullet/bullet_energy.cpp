@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "models/bullet/bullet_energy.h"
 
+#include "models/neo_hookean/stable_neo_hookean.h"
 #include "models/rotation_svd.h"
 
 #include <Eigen/LU>
@@ -18,32 +19,6 @@ Eigen::Matrix3d edge_matrix(const Eigen::Matrix3Xd& x, const Eigen::Vector4i& te
 }
 
 }  // namespace
-
-double stable_neo_hookean_density(const Eigen::Matrix3d& deformation_gradient,
-                                  double mu,
-                                  double lambda) {
-  // psi(F) - psi(I) = mu/2 [x - log1p(x)] + 3 mu/8 [a - 2 (J - 1)] + lambda/2 (J - 1)^2 with
-  // a = tr G, x = a / 4, G = C - I. With q = (tr^2 G - tr G^2) / 2 + det G, det C = 1 + a + q,
-  // so for J > 0: J - 1 = (a + q) / (J + 1) and a - 2 (J - 1) = (a (J - 1) - 2 q) / (J + 1),
-  // both free of cancellation.
-  const Eigen::Matrix3d& F = deformation_gradient;
-  const Eigen::Matrix3d G = F.transpose() * F - Eigen::Matrix3d::Identity();
-  const double a = G.trace();
-  const double J = F.determinant();
-  double j_minus_1 = 0.0;
-  double volume_term = 0.0;  // a - 2 (J - 1)
-  if (J > 0.0) {
-    const double q = 0.5 * (a * a - (G * G).trace()) + G.determinant();
-    j_minus_1 = (a + q) / (J + 1.0);
-    volume_term = (a * j_minus_1 - 2.0 * q) / (J + 1.0);
-  } else {
-    j_minus_1 = J - 1.0;
-    volume_term = a - 2.0 * j_minus_1;
-  }
-  const double x = 0.25 * a;
-  return 0.5 * mu * (x - std::log1p(x)) + 0.375 * mu * volume_term
-         + 0.5 * lambda * j_minus_1 * j_minus_1;
-}
 
 double corotated_density(const Eigen::Matrix3d& deformation_gradient, double mu, double lambda) {
   const RotationSvd svd = rotation_svd(deformation_gradient);
@@ -79,7 +54,10 @@ ElasticEnergy::ElasticEnergy(
 
 double ElasticEnergy::tet_energy(const Eigen::Matrix3d& deformation_gradient) const {
   return kind_ == Kind::kStableNeoHookean
-             ? stable_neo_hookean_density(deformation_gradient, mu_, lambda_)
+             // Bullet's stable neo-Hookean density is Smith et al.'s with alpha = 1 + 3 mu / 4
+             // lambda: the reference model's (round-off-safe) evaluation.
+             ? neo_hookean::energy_density(deformation_gradient,
+                                           {mu_, lambda_, 1.0 + 0.75 * mu_ / lambda_})
              : corotated_density(deformation_gradient, mu_, lambda_);
 }
 

@@ -50,10 +50,6 @@ class ElasticEnergy {
   Eigen::VectorXd rest_lengths_;               ///< m per link
 };
 
-/// Bullet's stable neo-Hookean energy density relative to rest, psi(F) - psi(I), Pa.
-double stable_neo_hookean_density(const Eigen::Matrix3d& deformation_gradient,
-                                  double mu,
-                                  double lambda);
 /// Bullet's corotated energy density mu |F - R|^2 + lambda/2 (J - 1)^2, Pa.
 double corotated_density(const Eigen::Matrix3d& deformation_gradient, double mu, double lambda);
 

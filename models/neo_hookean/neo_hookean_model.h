@@ -59,7 +59,6 @@ class NeoHookeanModel final : public SoftBody {
   /// assembled through the step's pattern (overwrites the system matrix).
   Eigen::SparseMatrix<double> elastic_hessian(bool projected);
   /// The energy's parameters (from the material's E and nu).
-  const StableNeoHookean& law() const { return law_; }
 
  private:
   /// The coefficients of one step's incremental potential.
