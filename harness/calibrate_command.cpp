@@ -48,11 +48,6 @@ nlohmann::json with_settling_damping(const std::string& model, nlohmann::json pa
   return params;
 }
 
-nlohmann::json scene_block(const scenes::Scene& scene, const std::string& model) {
-  const auto block = scene.model_parameters.find(model);
-  return block == scene.model_parameters.end() ? nlohmann::json::object() : block->second;
-}
-
 std::string format_cm(double metres) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(3) << 100.0 * metres << " cm";
@@ -117,10 +112,10 @@ StiffnessCalibration calibrate_bullet_softbody(const scenes::Scene& scene,
   nlohmann::json reference_params;
   if (builtin_models().contains("corotational_fem")) {
     result.against = "corotational_fem";
-    reference_params = scene_block(scene, result.against);
+    reference_params = scene.parameters_for(result.against);
   } else {
     result.against = "mass_spring";
-    reference_params = scene_block(scene, result.against);
+    reference_params = scene.parameters_for(result.against);
     reference_params["stiffness_from"] = "young_modulus";
   }
   const StaticSag reference = static_sag(scene, mesh, result.against,
@@ -136,7 +131,7 @@ StiffnessCalibration calibrate_bullet_softbody(const scenes::Scene& scene,
               << reference.time << " s)\n";
   }
 
-  nlohmann::json block = scene_block(scene, kModel);
+  nlohmann::json block = scene.parameters_for(kModel);
   block.erase("calibrated");
   const nlohmann::json defaults =
       builtin_models()

@@ -68,14 +68,7 @@ void compare(const CompareArguments& arguments) {
   std::cout << comparison_markdown(comparison) << "\nwrote " << (out_dir / "compare.md").string()
             << " and " << (out_dir / "compare.json").string() << "\n";
   if (!arguments.no_plots) {
-    const PlotOutcome plots = plot_comparison(out_dir);
-    if (plots.plotted) {
-      for (const fs::path& file : plots.files) {
-        std::cout << "wrote " << file.string() << "\n";
-      }
-    } else {
-      std::cerr << "softbench: warning: " << plots.message << "\n";
-    }
+    print_plot_outcome(plot_comparison(out_dir));
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -207,17 +207,6 @@ ClaimCheck linear_fem_claim(const std::vector<SceneComparison>& scenes,
   return check;
 }
 
-void apply_overrides(scenes::Scene& scene, const ModelVariant& variant) {
-  if (variant.overrides.empty()) {
-    return;
-  }
-  nlohmann::json& block = scene.model_parameters[variant.model];
-  if (!block.is_object()) {
-    block = nlohmann::json::object();
-  }
-  block.update(variant.overrides);
-}
-
 }  // namespace
 
 const std::vector<ModelVariant>& known_variants() {
@@ -314,7 +303,9 @@ Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const Compar
     result.name = scene.name;
     for (const ModelVariant& row : rows) {
       scenes::Scene variant_scene = scene;
-      apply_overrides(variant_scene, row);
+      if (!row.overrides.empty()) {
+        variant_scene.override_parameters(row.model, row.overrides);
+      }
       RunOptions run_options;
       run_options.models = {row.model};
       run_options.warmup_steps = options.warmup_steps;

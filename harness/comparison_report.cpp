@@ -151,12 +151,6 @@ ModelRun read_run(const JsonReader& in) {
   return run;
 }
 
-std::string fixed(double value, int digits) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
-  return out.str();
-}
-
 // Steps per second to three significant figures at least, without a pointless fraction.
 std::string rate(double value) {
   if (!(value > 0.0)) {

@@ -10,6 +10,7 @@
 #include <array>
 #include <cerrno>
 #include <cstdlib>
+#include <iostream>
 #include <sstream>
 #include <system_error>
 
@@ -166,6 +167,15 @@ PlotOutcome run_plot_script(const std::string& script_name,
   std::sort(outcome.files.begin(), outcome.files.end());
   outcome.plotted = true;
   return outcome;
+}
+
+void print_plot_outcome(const PlotOutcome& outcome) {
+  if (!outcome.plotted) {
+    std::cerr << "softbench: warning: " << outcome.message << "\n";
+  }
+  for (const std::filesystem::path& file : outcome.files) {
+    std::cout << "wrote " << file.string() << "\n";
+  }
 }
 
 }  // namespace softbench::harness

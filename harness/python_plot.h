@@ -38,4 +38,8 @@ PlotOutcome run_plot_script(const std::string& script_name,
                             const std::filesystem::path& json_file,
                             const std::filesystem::path& out_dir);
 
+/// What the commands print of an outcome: "wrote FILE" per plot on stdout, or the reason for no
+/// plots as a warning on stderr.
+void print_plot_outcome(const PlotOutcome& outcome);
+
 }  // namespace softbench::harness

@@ -22,7 +22,7 @@ struct ReferenceSettings {
   /// (the shipped press and pull scenes do); an undamped sag needs 8 at 1/60 s (see
   /// models/neo_hookean/neo_hookean.h for the measured convergence).
   int substeps = 4;
-  int times = 8;     ///< compared at this many evenly spaced times in (0, duration]
+  int times = 8;  ///< compared at this many evenly spaced times in (0, duration]
 };
 
 struct ReferenceRun {

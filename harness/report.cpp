@@ -8,15 +8,11 @@
 #include <sstream>
 
 namespace softbench::harness {
-namespace {
-
 std::string fixed(double value, int digits) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(digits) << value;
   return out.str();
 }
-
-}  // namespace
 
 nlohmann::json number_or_null(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);

@@ -12,6 +12,9 @@
 
 namespace softbench::harness {
 
+/// `value` with `digits` digits after the point, for the Markdown tables.
+std::string fixed(double value, int digits);
+
 /// A number for JSON, or null where it is NaN or infinite (JSON has neither).
 nlohmann::json number_or_null(double value);
 

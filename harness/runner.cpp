@@ -46,9 +46,7 @@ ModelRun run_model(const scenes::Scene& scene,
                    const std::string& model_name,
                    const RunOptions& options) {
   const ModelInfo& info = builtin_models().at(model_name);
-  const auto block = scene.model_parameters.find(model_name);
-  const nlohmann::json params =
-      block == scene.model_parameters.end() ? nlohmann::json(nullptr) : block->second;
+  const nlohmann::json params = scene.parameters_for(model_name);
   std::unique_ptr<SoftBody> body =
       info.create(mesh, scene.material, params, {scene.source.string(), "/models/" + model_name});
 

@@ -31,15 +31,8 @@ int steps_for(double duration, double dt, int cap) {
 }
 
 // "1/60 s" for the halving steps, else seconds.
-std::string time_step_label(double dt) {
-  std::ostringstream out;
-  const double inverse = 1.0 / dt;
-  if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
-    out << "1/" << std::llround(inverse) << " s";
-  } else {
-    out << dt << " s";
-  }
-  return out.str();
+std::string time_step_seconds(double dt) {
+  return time_step_label(dt) + " s";
 }
 
 std::string verdict_line(const RunVerdict& verdict, double recovered_below) {
@@ -54,14 +47,6 @@ std::string verdict_line(const RunVerdict& verdict, double recovered_below) {
   out << ", max inverted tets " << verdict.max_inverted_tets << ", " << std::fixed
       << std::setprecision(1) << verdict.wall_seconds << " s";
   return out.str();
-}
-
-nlohmann::json parameter_block(const scenes::Scene& scene, const std::string& model) {
-  const auto block = scene.model_parameters.find(model);
-  if (block == scene.model_parameters.end() || block->second.is_null()) {
-    return nlohmann::json::object();
-  }
-  return block->second;
 }
 
 // The scene's loading, long enough to watch the recovery window after its release.
@@ -246,6 +231,17 @@ StabilitySettings quick_stability_settings() {
   return settings;
 }
 
+std::string time_step_label(double dt) {
+  std::ostringstream out;
+  const double inverse = 1.0 / dt;
+  if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
+    out << "1/" << std::llround(inverse);
+  } else {
+    out << dt;
+  }
+  return out.str();
+}
+
 std::string to_string(CellStatus status) {
   switch (status) {
     case CellStatus::kStable:
@@ -308,7 +304,7 @@ ModelStability model_stability(const scenes::Scene& scene,
 
   ModelStability result;
   result.model = model;
-  result.params = parameter_block(scene, model);
+  result.params = scene.parameters_for(model);
   result.axis = stiffness_axis(model, settings.young_moduli, settings.unitless);
   for (const double value : result.axis.values) {
     Material material = scene.material;
@@ -332,7 +328,7 @@ ModelStability model_stability(const scenes::Scene& scene,
       });
       *progress << model << ": " << result.axis.parameter << " = " << value
                 << (result.axis.unit.empty() ? "" : " " + result.axis.unit) << ": max stable dt "
-                << (row.max_stable_dt ? time_step_label(*row.max_stable_dt)
+                << (row.max_stable_dt ? time_step_seconds(*row.max_stable_dt)
                     : timed_out       ? "unknown (a run timed out)"
                                       : "none")
                 << "\n";
@@ -369,7 +365,7 @@ std::vector<Claim> check_claims(const std::vector<ModelStability>& models,
         for (const MapCell& cell : row.cells) {
           runs += cell.status != CellStatus::kNotRun;
           std::ostringstream where;
-          where << "alpha " << row.value << " at dt " << time_step_label(cell.dt);
+          where << "alpha " << row.value << " at dt " << time_step_seconds(cell.dt);
           if (cell.status == CellStatus::kUnstable) {
             failures.push_back(where.str() + " (" + cell.verdict.failure + ")");
             by_displacement += cell.verdict.failure.rfind("displacement", 0) == 0;
@@ -392,7 +388,7 @@ std::vector<Claim> check_claims(const std::vector<ModelStability>& models,
       std::ostringstream evidence;
       if (failures.empty()) {
         evidence << "stable in all " << runs << " map runs (from the largest dt, "
-                 << time_step_label(settings.time_steps.front()) << ", at every alpha) and all "
+                 << time_step_seconds(settings.time_steps.front()) << ", at every alpha) and all "
                  << cases << " torture cases";
       } else {
         if (by_displacement == static_cast<int>(failures.size())) {

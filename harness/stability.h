@@ -95,7 +95,9 @@ StabilitySettings default_stability_settings();
 StabilitySettings quick_stability_settings();
 
 enum class CellStatus { kStable, kUnstable, kTimedOut, kNotRun };
-std::string to_string(CellStatus status);  ///< "stable", "unstable", "timed_out", "not_run"
+std::string to_string(CellStatus status);
+/// "1/60" for a time step 1/n s, else the number (no unit).
+std::string time_step_label(double dt);  ///< "stable", "unstable", "timed_out", "not_run"
 
 struct MapCell {
   double dt = 0.0;  ///< s

@@ -46,15 +46,8 @@ void stability(const StabilityArguments& arguments) {
   std::cout << stability_markdown(report) << "\nwrote " << (out_dir / "stability.md").string()
             << " and " << (out_dir / "stability.json").string() << "\n";
   if (!arguments.no_plots) {
-    const PlotOutcome plots = run_plot_script("plot_stability.py", "SOFTBENCH_STABILITY_SCRIPT",
-                                              out_dir / "stability.json", out_dir);
-    if (plots.plotted) {
-      for (const std::filesystem::path& file : plots.files) {
-        std::cout << "wrote " << file.string() << "\n";
-      }
-    } else {
-      std::cerr << "softbench: warning: " << plots.message << "\n";
-    }
+    print_plot_outcome(run_plot_script("plot_stability.py", "SOFTBENCH_STABILITY_SCRIPT",
+                                       out_dir / "stability.json", out_dir));
   }
   std::cerr << "stability took " << std::fixed << std::setprecision(1) << report.wall_seconds
             << " s\n";

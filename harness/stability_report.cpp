@@ -42,26 +42,9 @@ nlohmann::json verdict_json(const RunVerdict& verdict) {
            verdict.time_to_1pct ? nlohmann::json(*verdict.time_to_1pct) : nlohmann::json(nullptr)}};
 }
 
-std::string time_step_label(double dt) {
-  std::ostringstream out;
-  const double inverse = 1.0 / dt;
-  if (std::abs(inverse - std::round(inverse)) < 1e-6 * inverse) {
-    out << "1/" << std::llround(inverse);
-  } else {
-    out << dt;
-  }
-  return out.str();
-}
-
 std::string percent(double fraction) {
   std::ostringstream out;
   out << std::setprecision(3) << 100.0 * fraction << "%";
-  return out.str();
-}
-
-std::string fixed(double value, int digits) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(digits) << value;
   return out.str();
 }
 

@@ -87,15 +87,9 @@ SweepRecord run_point(const scenes::Scene& scene,
                       const Eigen::Matrix3Xd& rest) {
   scenes::Scene varied = scene;
   varied.dt = point.dt;
-  nlohmann::json& block = varied.model_parameters[point.model];
-  if (block.is_null()) {
-    block = nlohmann::json::object();
-  }
-  for (const auto& [key, value] : point.settings.items()) {
-    if (key != "dt") {
-      block[key] = value;
-    }
-  }
+  nlohmann::json settings = point.settings;
+  settings.erase("dt");  // the scene's, set above
+  varied.override_parameters(point.model, settings);
   RunOptions options;
   options.models = {point.model};
   options.snapshot_times = reference.times;

@@ -55,14 +55,8 @@ std::filesystem::path default_out(const std::string& scene_name) {
 }
 
 void plot(const std::filesystem::path& out_dir) {
-  const PlotOutcome outcome =
-      run_plot_script("plot_sweep.py", "SOFTBENCH_PLOT_SWEEP", out_dir / "sweep.json", out_dir);
-  if (!outcome.plotted) {
-    std::cerr << "softbench: warning: " << outcome.message << "\n";
-  }
-  for (const std::filesystem::path& file : outcome.files) {
-    std::cout << "wrote " << file.string() << "\n";
-  }
+  print_plot_outcome(
+      run_plot_script("plot_sweep.py", "SOFTBENCH_PLOT_SWEEP", out_dir / "sweep.json", out_dir));
 }
 
 void print_budgets(const std::vector<SweepRecord>& records) {

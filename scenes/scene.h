@@ -136,6 +136,11 @@ struct Scene {
   std::optional<Requirements> requirements;
   /// Per-model parameter blocks, as written; each model validates its own.
   std::map<std::string, nlohmann::json> model_parameters;
+  /// `model`'s parameter block ({} where the scene has none).
+  nlohmann::json parameters_for(const std::string& model) const;
+  /// Merges `settings` into `model`'s block, creating it: a compare variant's or a sweep point's
+  /// overrides.
+  void override_parameters(const std::string& model, const nlohmann::json& settings);
 
   int num_steps() const;  ///< ceil(duration / dt)
   /// s: when the loads that recovery is measured after are let go (the grasp's release, else

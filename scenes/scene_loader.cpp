@@ -331,6 +331,20 @@ std::map<std::string, nlohmann::json> read_models(const JsonReader& root) {
 
 }  // namespace
 
+nlohmann::json Scene::parameters_for(const std::string& model) const {
+  const auto block = model_parameters.find(model);
+  return block == model_parameters.end() || block->second.is_null() ? nlohmann::json::object()
+                                                                    : block->second;
+}
+
+void Scene::override_parameters(const std::string& model, const nlohmann::json& settings) {
+  nlohmann::json& block = model_parameters[model];
+  if (!block.is_object()) {
+    block = nlohmann::json::object();
+  }
+  block.update(settings);
+}
+
 int Scene::num_steps() const {
   // 3.5 s at dt = 1/60 is 210.00000000000003 steps in floating point: a ratio within rounding
   // of an integer counts as that integer, so a dt that divides the duration adds no extra step.

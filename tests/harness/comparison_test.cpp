@@ -10,6 +10,7 @@
 #include "models/model_registry.h"
 #include "scenes/scene.h"
 #include "scenes/shipped_data.h"
+#include "tests/harness/plot_checks.h"
 #include "tests/test_meshes.h"
 
 #include <gmock/gmock.h>
@@ -442,14 +443,7 @@ TEST(CompareEndToEnd, RunsTwoModelsAndTheLinearVariantAndWritesTheReports) {
   }
   const PlotOutcome plots = plot_comparison(out);
   ASSERT_TRUE(plots.plotted) << plots.message;
-  for (const char* name : {"steps_per_second.png", "recovery_bar_pull.png"}) {
-    const std::filesystem::path png = out / name;
-    ASSERT_NE(std::find(plots.files.begin(), plots.files.end(), png), plots.files.end()) << name;
-    std::ifstream file(png, std::ios::binary);
-    std::string magic(8, '\0');
-    file.read(magic.data(), 8);
-    EXPECT_EQ(magic, std::string("\x89PNG\r\n\x1a\n", 8)) << name;
-  }
+  test::expect_png_files(plots, out, {"steps_per_second.png", "recovery_bar_pull.png"});
 }
 
 }  // namespace

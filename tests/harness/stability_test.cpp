@@ -9,6 +9,7 @@
 #include "harness/torture_shapes.h"
 #include "scenes/scene.h"
 #include "scenes/scene_regions.h"
+#include "tests/harness/plot_checks.h"
 #include "tests/test_meshes.h"
 
 #include <gmock/gmock.h>
@@ -351,14 +352,8 @@ TEST(StabilityReport, MarkdownAndJsonCarryTheTablesAndThePlotScriptDrawsAHeatMap
   const PlotOutcome plots = run_plot_script("plot_stability.py", "SOFTBENCH_STABILITY_SCRIPT",
                                             dir.path() / "stability.json", dir.path());
   ASSERT_TRUE(plots.plotted) << plots.message;
-  for (const char* name : {"stability_shape_matching.png", "stability_mass_spring.png"}) {
-    const std::filesystem::path png = dir.path() / name;
-    ASSERT_NE(std::find(plots.files.begin(), plots.files.end(), png), plots.files.end()) << name;
-    std::ifstream file(png, std::ios::binary);
-    std::string magic(8, '\0');
-    file.read(magic.data(), 8);
-    EXPECT_EQ(magic, std::string("\x89PNG\r\n\x1a\n", 8)) << name;
-  }
+  test::expect_png_files(plots, dir.path(),
+                         {"stability_shape_matching.png", "stability_mass_spring.png"});
 }
 
 }  // namespace
