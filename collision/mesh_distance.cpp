@@ -20,8 +20,8 @@ double squared_lower_bound(const BvhNode& node, const Eigen::Vector3d& point) {
   if (!node.has_sphere()) {
     return 0.0;
   }
-  const double gap = (point - node.sphere.center).norm() - node.sphere.radius;
-  return gap > 0.0 ? gap * gap : 0.0;
+  const double gap = distance(node.sphere, point);
+  return gap * gap;
 }
 
 // Angle at vertex `a` of triangle (a, b, c), radians (0 for a zero-length edge).

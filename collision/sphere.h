@@ -35,47 +35,6 @@ inline double padded_radius(double radius, const Eigen::Vector3d& center) {
   return radius + kSpherePadding * (radius + center.cwiseAbs().maxCoeff());
 }
 
-/// A sphere holding every column of `points` (3 x #P): centred at the points' bounding-box centre
-/// with the smallest radius for that centre. Not the minimal sphere (Welzl), but never larger
-/// than the box's half-diagonal, one pass, and the same rule the BVH refit uses.
-inline Sphere fit_sphere(const Eigen::Matrix3Xd& points) {
-  Sphere sphere;
-  if (points.cols() == 0) {
-    return sphere;
-  }
-  sphere.center = fit_aabb(points).center();
-  double max_squared = 0.0;
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    max_squared = std::max(max_squared, (points.col(i) - sphere.center).squaredNorm());
-  }
-  sphere.radius = padded_radius(std::sqrt(max_squared), sphere.center);
-  return sphere;
-}
-
-/// The smallest sphere holding both spheres (exact construction, padded).
-inline Sphere merge(const Sphere& a, const Sphere& b) {
-  if (a.empty()) {
-    return b;
-  }
-  if (b.empty()) {
-    return a;
-  }
-  const Eigen::Vector3d offset = b.center - a.center;
-  const double distance = offset.norm();
-  if (distance + b.radius <= a.radius) {
-    return a;
-  }
-  if (distance + a.radius <= b.radius) {
-    return b;
-  }
-  Sphere sphere;
-  const double radius = 0.5 * (distance + a.radius + b.radius);
-  // distance > 0 here: equal centres fall into one of the containment cases above.
-  sphere.center = a.center + offset * ((radius - a.radius) / distance);
-  sphere.radius = padded_radius(radius, sphere.center);
-  return sphere;
-}
-
 /// Closed overlap of two spheres.
 inline bool overlap(const Sphere& a, const Sphere& b) {
   const double reach = a.radius + b.radius;

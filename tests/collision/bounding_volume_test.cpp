@@ -29,15 +29,6 @@ Eigen::Matrix3Xd random_points(std::mt19937& rng, int count) {
   return points;
 }
 
-bool holds_all(const Sphere& sphere, const Eigen::Matrix3Xd& points) {
-  for (Eigen::Index i = 0; i < points.cols(); ++i) {
-    if (!sphere.contains(points.col(i))) {
-      return false;
-    }
-  }
-  return true;
-}
-
 TEST(Aabb, FitHoldsEveryPointAndTouchesEachFace) {
   std::mt19937 rng(1);
   for (int trial = 0; trial < kTrials; ++trial) {
@@ -51,47 +42,6 @@ TEST(Aabb, FitHoldsEveryPointAndTouchesEachFace) {
     EXPECT_EQ(box.max, points.rowwise().maxCoeff());
   }
   EXPECT_TRUE(fit_aabb(Eigen::Matrix3Xd(3, 0)).empty());
-}
-
-TEST(Sphere, FitHoldsEveryPointAndIsNoLargerThanTheBoxCircumsphere) {
-  std::mt19937 rng(2);
-  for (int trial = 0; trial < kTrials; ++trial) {
-    const Eigen::Matrix3Xd points = random_points(rng, 1 + trial % 17);
-    const Sphere sphere = fit_sphere(points);
-    ASSERT_TRUE(holds_all(sphere, points)) << "trial " << trial;
-    const Aabb box = fit_aabb(points);
-    const double half_diagonal = 0.5 * box.extent().norm();
-    EXPECT_LE(sphere.radius, half_diagonal * (1 + 1e-12) + 1e-12 * box.max.cwiseAbs().maxCoeff());
-  }
-  EXPECT_TRUE(fit_sphere(Eigen::Matrix3Xd(3, 0)).empty());
-}
-
-TEST(Sphere, MergeHoldsBothInputsAndTheirPoints) {
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  for (int trial = 0; trial < kTrials; ++trial) {
-    const Eigen::Matrix3Xd first = random_points(rng, 1 + trial % 5);
-    Eigen::Matrix3Xd second = random_points(rng, 1 + trial % 7);
-    if (trial % 4 == 0) {  // nested or nearly concentric: second inside first's hull
-      second = first * 0.5 + random_points(rng, static_cast<int>(first.cols())) * 0.5;
-    }
-    const Sphere a = fit_sphere(first), b = fit_sphere(second);
-    const Sphere merged = merge(a, b);
-    EXPECT_TRUE(holds_all(merged, first)) << "trial " << trial;
-    EXPECT_TRUE(holds_all(merged, second)) << "trial " << trial;
-    // The merged sphere holds both spheres: its radius reaches past each.
-    for (const Sphere* part : {&a, &b}) {
-      EXPECT_LE((part->center - merged.center).norm() + part->radius,
-                merged.radius * (1 + 1e-12) + 1e-12 * merged.center.cwiseAbs().maxCoeff());
-    }
-    // And it is the smallest such: no larger than the larger input or the spanning sphere.
-    const double spanning = 0.5 * ((a.center - b.center).norm() + a.radius + b.radius);
-    EXPECT_LE(merged.radius, std::max({a.radius, b.radius, spanning}) * (1 + 1e-12)
-                                 + 1e-12 * merged.center.cwiseAbs().maxCoeff());
-  }
-  const Sphere one = fit_sphere(Eigen::Matrix3Xd::Ones(3, 1));
-  EXPECT_EQ(merge(one, Sphere{}).center, one.center);
-  EXPECT_EQ(merge(Sphere{}, one).radius, one.radius);
 }
 
 TEST(Aabb, MergeHoldsBoth) {
@@ -181,22 +131,6 @@ TEST(Overlap, SphereSphereAndSphereBoxAgreeWithClosestPointReferences) {
   EXPECT_LT(box_hits, kTrials * 9 / 10);
 }
 
-TEST(SphereAabb, OverlapsOnlyWhereBothVolumesOverlapAndDistanceIsTheLargerBound) {
-  std::mt19937 rng(7);
-  int rejected_by_box_only = 0;
-  for (int trial = 0; trial < kTrials; ++trial) {
-    const SphereAabb a = fit_sphere_aabb(random_points(rng, 4));
-    SphereAabb b = fit_sphere_aabb(random_points(rng, 4));
-    EXPECT_EQ(overlap(a, b), overlap(a.sphere, b.sphere) && overlap(a.box, b.box));
-    rejected_by_box_only += overlap(a.sphere, b.sphere) && !overlap(a.box, b.box);
-    const Eigen::Vector3d point = b.sphere.center;
-    EXPECT_DOUBLE_EQ(distance(a, point), std::max(distance(a.sphere, point),
-                                                  std::sqrt(squared_distance(a.box, point))));
-  }
-  // Random points at random scales: some pairs must exercise the box after a sphere pass.
-  EXPECT_GT(rejected_by_box_only, 0);
-}
-
 // circumspheres_overlap against the formed circumspheres. The exact answer is compared only where
 // the sphere gap is clear of round-off; near tangency the test may only err towards "overlap",
 // which the box-overlap property checks exactly: boxes that overlap (even at one corner, far from
@@ -251,18 +185,6 @@ TEST(SphereAabb, CircumspheresOverlapMatchesTheFormedSpheresAndNeverRejectsOverl
       apart.max += away;
       EXPECT_FALSE(circumspheres_overlap(a, apart, magnitude + 1.0))
           << "offset " << offset << " trial " << trial;
-    }
-  }
-}
-
-TEST(SphereAabb, FitHoldsEveryPointInBothVolumes) {
-  std::mt19937 rng(8);
-  for (int trial = 0; trial < kTrials; ++trial) {
-    const Eigen::Matrix3Xd points = random_points(rng, 1 + trial % 11);
-    const SphereAabb volume = fit_sphere_aabb(points);
-    for (Eigen::Index i = 0; i < points.cols(); ++i) {
-      ASSERT_TRUE(volume.contains(points.col(i)));
-      EXPECT_EQ(distance(volume, points.col(i)), 0.0);
     }
   }
 }
