@@ -318,6 +318,37 @@ void set_frame_counters(benchmark::State& state, const FrameTotals& totals) {
   state.counters["tri_tests"] = totals.tri_tests / frames;
 }
 
+// One frame: refit both trees to this frame's vertices, the broad phase, the exact tests on its
+// candidates. `marks` (optional) receives the thread CPU time after each of the three.
+void run_frame(Trees& trees,
+               const Eigen::Matrix3Xd& liver,
+               const Eigen::Matrix3Xd& tool,
+               CollideBuffers& buffers,
+               std::vector<TrianglePair>& pairs,
+               QueryStats& stats,
+               bool batched,
+               std::array<double, 3>* marks = nullptr) {
+  auto mark = [marks](std::size_t phase) {
+    if (marks != nullptr) {
+      (*marks)[phase] = thread_cpu_us();
+    }
+  };
+  trees.liver.refit(liver);
+  trees.tool.refit(tool);
+  mark(0);
+  stats = {};
+  collect_candidates(trees.liver, liver, trees.tool, tool, buffers, stats);
+  mark(1);
+  if (batched) {
+    narrow_phase(trees.liver, liver, trees.tool, tool, buffers, pairs, TriTriMethod::kBatched);
+  } else {
+    narrow_phase(trees.liver, liver, trees.tool, tool, buffers.candidates, pairs,
+                 tri_tri_projection);
+  }
+  mark(2);
+  benchmark::DoNotOptimize(pairs.data());
+}
+
 void run_ours(benchmark::State& state,
               const Scene& scene,
               const Placement& placement,
@@ -333,24 +364,12 @@ void run_ours(benchmark::State& state,
   std::size_t frame = 0;
   for (auto _ : state) {
     const Eigen::Matrix3Xd& liver = placement.pose.liver[frame++ % 2];
+    std::array<double, 3> marks{};
     const double start = thread_cpu_us();
-    trees.liver.refit(liver);
-    trees.tool.refit(tool);
-    const double refitted = thread_cpu_us();
-    stats = {};
-    collect_candidates(trees.liver, liver, trees.tool, tool, buffers, stats);
-    const double broad = thread_cpu_us();
-    if (batched) {
-      narrow_phase(trees.liver, liver, trees.tool, tool, buffers, pairs, TriTriMethod::kBatched);
-    } else {
-      narrow_phase(trees.liver, liver, trees.tool, tool, buffers.candidates, pairs,
-                   tri_tri_projection);
-    }
-    const double narrow = thread_cpu_us();
-    benchmark::DoNotOptimize(pairs.data());
-    totals.refit_us += refitted - start;
-    totals.broad_us += broad - refitted;
-    totals.narrow_us += narrow - broad;
+    run_frame(trees, liver, tool, buffers, pairs, stats, batched, &marks);
+    totals.refit_us += marks[0] - start;
+    totals.broad_us += marks[1] - marks[0];
+    totals.narrow_us += marks[2] - marks[1];
     totals.pairs += static_cast<double>(pairs.size());
     totals.tri_tests += static_cast<double>(buffers.candidates.size());
   }
@@ -441,13 +460,8 @@ void run_compare(benchmark::State& state, const Scene& scene, const Placement& p
       const double start = thread_cpu_us();
       for (int f = 0; f < kCompareBatch; ++f) {
         const Eigen::Matrix3Xd& liver = placement.pose.liver[static_cast<std::size_t>(f % 2)];
-        trees[t].liver.refit(liver);
-        trees[t].tool.refit(tool);
         QueryStats stats;
-        collect_candidates(trees[t].liver, liver, trees[t].tool, tool, buffers, stats);
-        narrow_phase(trees[t].liver, liver, trees[t].tool, tool, buffers.candidates, pairs,
-                     tri_tri_projection);
-        benchmark::DoNotOptimize(pairs.data());
+        run_frame(trees[t], liver, tool, buffers, pairs, stats, /*batched=*/false);
       }
       total_us[t] += thread_cpu_us() - start;
       found[t] = pairs.size();

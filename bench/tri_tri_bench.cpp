@@ -85,11 +85,9 @@ void BM_TriTriScalar(benchmark::State& state, int method, int set) {
   set_counters(state, count, hits);
 }
 
-void BM_TriTriBatch(benchmark::State& state, int set) {
-  const std::vector<TriPair>& pairs = pair_set(set);
-  const auto count = static_cast<std::size_t>(state.range(0)) * 1000;
-  // The SoA copy of the first `count` pairs is built before timing (a BVH query fills it while
-  // collecting leaf pairs).
+// The batch path over the first `count` pairs; their SoA copy is built before timing (a BVH
+// query fills it while collecting leaf pairs).
+void time_batch(benchmark::State& state, const std::vector<TriPair>& pairs, std::size_t count) {
   TriangleSoA a;
   TriangleSoA b;
   a.reserve(count);
@@ -112,30 +110,17 @@ void BM_TriTriBatch(benchmark::State& state, int set) {
   state.counters["exact_fallbacks"] = static_cast<double>(fallbacks);
 }
 
+void BM_TriTriBatch(benchmark::State& state, int set) {
+  time_batch(state, pair_set(set), static_cast<std::size_t>(state.range(0)) * 1000);
+}
+
 // The goal's setting: a BVH query gathers its candidates (every leaf pair's) into one SoA and runs
 // the batch path once over them (collision/bvh_collide.cpp, TriTriMethod::kBatched), on data
 // that is in cache. Here: one call over the first state.range(0) random pairs, 100 to 2000 (the
 // candidate counts of table 4.2, 0.3-290 KB). On the 1-2 M pair arrays of table 4.1 the same
 // code streams 144 B per pair from memory, which bounds it instead.
 void BM_TriTriBatchInCache(benchmark::State& state) {
-  const std::vector<TriPair>& pairs = pair_set(1);
-  const auto count = static_cast<std::size_t>(state.range(0));
-  TriangleSoA a;
-  TriangleSoA b;
-  for (std::size_t i = 0; i < count; ++i) {
-    a.push_back(pairs[i].a[0], pairs[i].a[1], pairs[i].a[2]);
-    b.push_back(pairs[i].b[0], pairs[i].b[1], pairs[i].b[2]);
-  }
-  std::vector<std::uint8_t> answer(count);
-  for (auto _ : state) {
-    tri_tri_batch(a, b, answer);
-    benchmark::DoNotOptimize(answer.data());
-  }
-  std::size_t hits = 0;
-  for (const std::uint8_t x : answer) {
-    hits += x;
-  }
-  set_counters(state, count, hits);
+  time_batch(state, pair_set(1), static_cast<std::size_t>(state.range(0)));
 }
 
 // The goal "the projection test is no slower than Moeller" as a ratio: table 4.1's rows run one
