@@ -403,6 +403,10 @@ Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& sourc
   }
   if (root.has("instrument")) {
     scene.instrument = read_instrument(root, folder);
+    // One grasp per scene: a grasped patch cannot both stay put and ride on the instrument.
+    if (scene.grasp && scene.instrument->grasp) {
+      root.fail("grasp", "a scene grasp and an instrument grasp together; keep one");
+    }
   }
   scene.limits = read_limits(root);
   if (root.has("requirements")) {

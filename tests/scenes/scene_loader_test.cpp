@@ -471,6 +471,13 @@ TEST_F(SceneLoader, AGraspingInstrumentIsReleasedWithItsGrasp) {
   EXPECT_EQ(scene.reference_time(), 0.5);
 }
 
+TEST_F(SceneLoader, RejectsASceneGraspBesideAGraspingInstrument) {
+  EXPECT_EQ(error_for(R"({"grasp": {"center": [0, 0, 0]},
+      "instrument": {"mesh": "tool.obj", "grasp": {"center": [0, 0, 0], "start": 1, "release": 2},
+                     "path": [{"t": 0, "position": [0, 0, 1]}]}})"),
+            "/grasp: a scene grasp and an instrument grasp together; keep one");
+}
+
 TEST_F(SceneLoader, RejectsAnEmptyInstrumentPath) {
   EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": []}})"),
             "/instrument/path: expected at least one keyframe, got []");
