@@ -193,6 +193,20 @@ Eigen::Matrix2Xi unique_edges(const Eigen::Matrix3Xi& triangles) {
   return unique_cell_edges<3>(triangles);
 }
 
+int edge_index(const Eigen::Matrix2Xi& edges, int i, int j) {
+  int lo = 0;
+  int hi = static_cast<int>(edges.cols());
+  while (lo < hi) {  // lexicographic: edges are sorted
+    const int mid = (lo + hi) / 2;
+    if (edges(0, mid) < i || (edges(0, mid) == i && edges(1, mid) < j)) {
+      lo = mid + 1;
+    } else {
+      hi = mid;
+    }
+  }
+  return lo;
+}
+
 SurfaceTopology surface_topology(const Eigen::Matrix3Xi& triangles, int num_vertices) {
   require_indices_in_range(triangles, num_vertices);
 

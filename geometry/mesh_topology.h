@@ -23,6 +23,9 @@ TriMesh boundary_surface(const TetMesh& mesh, std::vector<int>* tet_vertex_of = 
 /// Unique undirected edges, each as (smaller, larger) index, sorted lexicographically.
 Eigen::Matrix2Xi unique_edges(const Eigen::Matrix4Xi& tets);  ///< 2 x #E
 Eigen::Matrix2Xi unique_edges(const Eigen::Matrix3Xi& triangles);
+/// The column of edge (i, j), i < j, in `edges` as unique_edges returns them (binary search);
+/// where the edge is absent, the column it would be inserted at.
+int edge_index(const Eigen::Matrix2Xi& edges, int i, int j);
 
 /// Edge-based topology of a triangle surface.
 struct SurfaceTopology {

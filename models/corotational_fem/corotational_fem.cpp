@@ -88,19 +88,6 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
 
   // Edge incidences, in element order; the edge's first (smaller) vertex's local index first.
   const Eigen::Matrix2Xi edges = unique_edges(tets_);
-  const auto edge_of = [&edges](int i, int j) {
-    int lo = 0;
-    int hi = static_cast<int>(edges.cols());
-    while (lo < hi) {  // lexicographic binary search: edges are sorted
-      const int mid = (lo + hi) / 2;
-      if (edges(0, mid) < i || (edges(0, mid) == i && edges(1, mid) < j)) {
-        lo = mid + 1;
-      } else {
-        hi = mid;
-      }
-    }
-    return lo;
-  };
   constexpr std::array<std::pair<int, int>, 6> kTetEdges{
       {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
   std::vector<int> element_edges(6 * num_elements);
@@ -112,7 +99,7 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
       if (tets_(a, t) > tets_(b, t)) {
         std::swap(a, b);
       }
-      const int edge = edge_of(tets_(a, t), tets_(b, t));
+      const int edge = edge_index(edges, tets_(a, t), tets_(b, t));
       element_edges[6 * static_cast<std::size_t>(t) + k] = edge;
       element_codes[6 * static_cast<std::size_t>(t) + k] = 16 * t + 4 * a + b;
       ++counts[static_cast<std::size_t>(edge)];

@@ -15,25 +15,6 @@
 
 namespace softbench {
 namespace neo_hookean {
-namespace {
-
-/// The index of edge (i, j), i < j, in the sorted unique edges.
-int edge_index(const Eigen::Matrix2Xi& edges, int i, int j) {
-  int lo = 0;
-  int hi = static_cast<int>(edges.cols());
-  while (lo < hi) {
-    const int mid = (lo + hi) / 2;
-    if (edges(0, mid) < i || (edges(0, mid) == i && edges(1, mid) < j)) {
-      lo = mid + 1;
-    } else {
-      hi = mid;
-    }
-  }
-  return lo;
-}
-
-}  // namespace
-
 NeoHookeanModel::NeoHookeanModel(const TetMesh& mesh,
                                  const Material& material,
                                  const NeoHookeanParams& params)

@@ -126,6 +126,15 @@ TEST(UniqueEdges, OfTheFiveTetCubeAreTheCubeEdgesAndSixFaceDiagonals) {
   expect_strictly_sorted_pairs(edges);
 }
 
+TEST(UniqueEdges, EdgeIndexFindsEveryEdgeAndWhereAnAbsentOneWouldGo) {
+  const Eigen::Matrix2Xi edges = unique_edges(cube_five_tets().tetrahedra);
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    EXPECT_EQ(edge_index(edges, edges(0, e), edges(1, e)), e);
+  }
+  EXPECT_EQ(edge_index(edges, -1, 0), 0);
+  EXPECT_EQ(edge_index(edges, 1000, 1001), edges.cols());
+}
+
 TEST(UniqueEdges, OfTheCubeSurfaceAreTheCubeEdgesAndSixFaceDiagonals) {
   const Eigen::Matrix2Xi edges = unique_edges(cube_surface().triangles);
 
