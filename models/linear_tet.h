@@ -43,6 +43,15 @@ inline Matrix34d shape_gradients(const TetRest& rest) {
   return gradients;
 }
 
+/// d(V Psi)/dx_a = V P b_a as columns (N) for the first Piola-Kirchhoff stress P (Pa) of an
+/// energy density Psi: the negated elastic forces on the nodes. They sum to zero.
+inline Matrix34d element_gradient(const TetRest& rest, const Eigen::Matrix3d& stress) {
+  Matrix34d gradient;
+  gradient.rightCols<3>() = (rest.volume * stress) * rest.rest_inverse.transpose();
+  gradient.col(0) = -gradient.rightCols<3>().rowwise().sum();
+  return gradient;
+}
+
 /// F = Ds Dm^-1 of the 4 current positions (columns of `x`).
 inline Eigen::Matrix3d deformation_gradient(const TetRest& rest, const Matrix34d& x) {
   Eigen::Matrix3d edges;

@@ -55,12 +55,8 @@ void CorotationalFemModel::update_deformations(bool hold_rotations) {
     const int first = block * kBlock;
     const int last = std::min(num_elements_, first + kBlock);
     for (int t = first; t < last; ++t) {
-      Matrix34d x;
-      for (int a = 0; a < 4; ++a) {
-        x.col(a) = positions_.col(tets_(a, t));
-      }
-      deformations_[static_cast<std::size_t>(t)] =
-          deformation_gradient(elements_[static_cast<std::size_t>(t)], x);
+      deformations_[static_cast<std::size_t>(t)] = deformation_gradient(
+          elements_[static_cast<std::size_t>(t)], tet_positions(positions_, tets_, t));
     }
     if (!corotational) {
       continue;  // R stays (I for linear FEM)

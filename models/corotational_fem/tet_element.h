@@ -41,11 +41,7 @@ inline Matrix34d element_forces(const TetRest& rest,
                                 const Eigen::Matrix3d& rotation,
                                 const Eigen::Matrix3d& deformation,
                                 const LameParameters& lame) {
-  const Eigen::Matrix3d stress = (-rest.volume) * corotated_stress(rotation, deformation, lame);
-  Matrix34d forces;
-  forces.rightCols<3>() = stress * rest.rest_inverse.transpose();
-  forces.col(0) = -forces.rightCols<3>().rowwise().sum();
-  return forces;
+  return -element_gradient(rest, corotated_stress(rotation, deformation, lame));
 }
 
 /// V [mu |S - I|_F^2 + lambda/2 tr(S - I)^2] with S = sym(R^T F), J. With R the polar rotation
