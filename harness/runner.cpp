@@ -5,7 +5,7 @@
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
-#include "harness/loading.h"
+#include "harness/scene_stepper.h"
 #include "models/model_registry.h"
 #include "scenes/scene_regions.h"
 
@@ -62,13 +62,7 @@ ModelRun run_model(const scenes::Scene& scene,
   const double diagonal = (box.col(1) - box.col(0)).norm();
   const double rest_volume = mesh_volume(mesh);
   const Eigen::VectorXd masses = lumped_masses(mesh, scene.material.density);
-  Loading loading(scene, mesh);
-  // The tool force needs the constraint forces of every step; a scene without a tool does not.
-  const bool has_tool = scene.grasp.has_value() || scene.instrument.has_value();
-  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, mesh.num_vertices());
-  RecoveryTracker recovery(scene.release_time(), diagonal);
-  Eigen::Matrix3Xd reference = mesh.rest_positions();
-  bool have_reference = scene.reference_time() <= 0.0;
+  SceneStepper stepper(scene, mesh, diagonal);
 
   std::vector<double> step_ms;
   std::vector<double> step_with_collision_ms;
@@ -78,16 +72,8 @@ ModelRun run_model(const scenes::Scene& scene,
   double total_iterations = 0.0;
   for (int step = 0; step < run.steps_planned; ++step) {
     const double start = step * scene.dt;
-    if (!have_reference && start + 0.5 * scene.dt >= scene.reference_time()) {
-      reference = body->positions();
-      have_reference = true;
-    }
-    StepInput input;
-    input.gravity =
-        start < scene.gravity.off_at ? scene.gravity.acceleration : Eigen::Vector3d::Zero();
     const Clock::time_point before_collision = Clock::now();
-    input.constraints =
-        loading.constraints(start, scene.dt, body->positions(), body->velocities(), forces);
+    const StepInput input = stepper.input(step, *body);
     const Clock::time_point before = Clock::now();
     const StepStats stats = body->step(scene.dt, input);
     const Clock::time_point after = Clock::now();
@@ -123,20 +109,14 @@ ModelRun run_model(const scenes::Scene& scene,
     run.max_inverted_tets = std::max(run.max_inverted_tets, count_inverted_tets(mesh, x));
     run.volume_change =
         std::max(run.volume_change, std::abs(mesh_volume(mesh, x) - rest_volume) / rest_volume);
-    if (has_tool) {
-      forces = body->constraint_forces();
-      loading.observe(start + scene.dt, x, forces);
-    }
+    stepper.observe(step, *body);
     StepSample sample;
     sample.time = start + scene.dt;
-    sample.tool_displacement = loading.tool_displacement();
-    sample.tool_force = loading.tool_force();
+    sample.tool_displacement = stepper.loading().tool_displacement();
+    sample.tool_force = stepper.loading().tool_force();
     run.peak_tool_force = std::max(run.peak_tool_force, sample.tool_force);
-    if (have_reference) {
-      recovery.observe(start + scene.dt, x, reference);
-      if (recovery.released()) {
-        sample.recovery_residual = recovery.residual();
-      }
+    if (stepper.have_reference() && stepper.recovery().released()) {
+      sample.recovery_residual = stepper.recovery().residual();
     }
     run.samples.push_back(sample);
     // Half a step of slack: a time that rounding puts just past a step's end is that step's.
@@ -157,6 +137,7 @@ ModelRun run_model(const scenes::Scene& scene,
   run.fps = steps_per_second(step_ms);
   run.step_with_collision_ms = percentiles(step_with_collision_ms);
   run.fps_with_collision = steps_per_second(step_with_collision_ms);
+  const Loading& loading = stepper.loading();
   run.max_penetration = loading.max_penetration();
   run.max_penetration_pressing = loading.max_penetration_pressing();
   run.lost_contact_vertices = loading.lost_contact_vertices();
@@ -164,6 +145,7 @@ ModelRun run_model(const scenes::Scene& scene,
   run.mean_iterations = run.steps_run > 0 ? total_iterations / run.steps_run : 0.0;
   run.final_elastic_energy = body->elastic_energy();
   run.final_reaction_sum = body->constraint_forces().rowwise().sum();
+  const RecoveryTracker& recovery = stepper.recovery();
   run.recovery_measured = run.stable && recovery.released();
   run.recovery_residual = recovery.residual();
   run.time_to_1pct = recovery.time_to_one_percent();

@@ -2,8 +2,8 @@
 #include "harness/stability_run.h"
 
 #include "geometry/mesh_measures.h"
-#include "harness/loading.h"
 #include "harness/metrics.h"
+#include "harness/scene_stepper.h"
 
 #include <chrono>
 #include <cmath>
@@ -206,40 +206,21 @@ RunVerdict run_scene_loading(SoftBody& body,
                              int steps,
                              const RunBounds& bounds) {
   Monitor monitor(mesh, bounds, steps);
-  Loading loading(scene, mesh);
-  const bool has_tool = scene.grasp.has_value() || scene.instrument.has_value();
-  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, mesh.num_vertices());
-  RecoveryTracker recovery(scene.release_time(), monitor.diagonal());
-  Eigen::Matrix3Xd reference = mesh.rest_positions();
-  bool have_reference = scene.reference_time() <= 0.0;
+  SceneStepper stepper(scene, mesh, monitor.diagonal());
   for (int step = 0; step < steps; ++step) {
     const double start = step * scene.dt;
-    if (!have_reference && start + 0.5 * scene.dt >= scene.reference_time()) {
-      reference = body.positions();
-      have_reference = true;
-    }
-    StepInput input;
-    input.gravity =
-        start < scene.gravity.off_at ? scene.gravity.acceleration : Eigen::Vector3d::Zero();
-    input.constraints =
-        loading.constraints(start, scene.dt, body.positions(), body.velocities(), forces);
+    const StepInput input = stepper.input(step, body);
     if (!monitor.after_step(step, body.step(scene.dt, input), body, input.constraints, false)) {
       break;
     }
-    if (has_tool) {
-      forces = body.constraint_forces();
-      loading.observe(start + scene.dt, body.positions(), forces);
-    }
-    if (have_reference) {
-      recovery.observe(start + scene.dt, body.positions(), reference);
-      // Only a step that began after the release can show the body at rest without its load.
-      if (start >= scene.release_time()
-          && monitor.settled(start + scene.dt - scene.release_time())) {
-        break;
-      }
+    stepper.observe(step, body);
+    // Only a step that began after the release can show the body at rest without its load.
+    if (stepper.have_reference() && start >= scene.release_time()
+        && monitor.settled(start + scene.dt - scene.release_time())) {
+      break;
     }
   }
-  return monitor.finish(&recovery);
+  return monitor.finish(&stepper.recovery());
 }
 
 }  // namespace softbench::harness
