@@ -242,20 +242,6 @@ std::string time_step_label(double dt) {
   return out.str();
 }
 
-std::string to_string(CellStatus status) {
-  switch (status) {
-    case CellStatus::kStable:
-      return "stable";
-    case CellStatus::kUnstable:
-      return "unstable";
-    case CellStatus::kTimedOut:
-      return "timed_out";
-    case CellStatus::kNotRun:
-      return "not_run";
-  }
-  return "?";
-}
-
 MapRow scan_time_steps(double value,
                        const std::vector<double>& time_steps,
                        const std::function<RunVerdict(double dt)>& run) {
@@ -267,20 +253,10 @@ MapRow scan_time_steps(double value,
     cell.dt = dt;
     if (!done) {
       cell.verdict = run(dt);
-      switch (cell.verdict.status) {
-        case RunStatus::kStable:
-          cell.status = CellStatus::kStable;
-          row.max_stable_dt = dt;
-          done = true;
-          break;
-        case RunStatus::kUnstable:
-          cell.status = CellStatus::kUnstable;
-          break;
-        case RunStatus::kTimedOut:
-          cell.status = CellStatus::kTimedOut;
-          done = true;
-          break;
+      if (cell.verdict->status == RunStatus::kStable) {
+        row.max_stable_dt = dt;
       }
+      done = cell.verdict->status != RunStatus::kUnstable;
     }
     row.cells.push_back(cell);
   }
@@ -324,7 +300,7 @@ ModelStability model_stability(const scenes::Scene& scene,
     if (progress != nullptr) {
       const MapRow& row = result.map.back();
       const bool timed_out = std::any_of(row.cells.begin(), row.cells.end(), [](const MapCell& c) {
-        return c.status == CellStatus::kTimedOut;
+        return c.is(RunStatus::kTimedOut);
       });
       *progress << model << ": " << result.axis.parameter << " = " << value
                 << (result.axis.unit.empty() ? "" : " " + result.axis.unit) << ": max stable dt "
@@ -363,13 +339,13 @@ std::vector<Claim> check_claims(const std::vector<ModelStability>& models,
       std::vector<std::string> timeouts;
       for (const MapRow& row : model->map) {
         for (const MapCell& cell : row.cells) {
-          runs += cell.status != CellStatus::kNotRun;
+          runs += cell.verdict.has_value();
           std::ostringstream where;
           where << "alpha " << row.value << " at dt " << time_step_seconds(cell.dt);
-          if (cell.status == CellStatus::kUnstable) {
-            failures.push_back(where.str() + " (" + cell.verdict.failure + ")");
-            by_displacement += cell.verdict.failure.rfind("displacement", 0) == 0;
-          } else if (cell.status == CellStatus::kTimedOut) {
+          if (cell.is(RunStatus::kUnstable)) {
+            failures.push_back(where.str() + " (" + cell.verdict->failure + ")");
+            by_displacement += cell.verdict->failure.rfind("displacement", 0) == 0;
+          } else if (cell.is(RunStatus::kTimedOut)) {
             timeouts.push_back(where.str());
           }
         }

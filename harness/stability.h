@@ -94,15 +94,13 @@ StabilitySettings default_stability_settings();
 /// 0.25 s map runs; 2 s recovery window; 10 s wall budget per run.
 StabilitySettings quick_stability_settings();
 
-enum class CellStatus { kStable, kUnstable, kTimedOut, kNotRun };
-std::string to_string(CellStatus status);
 /// "1/60" for a time step 1/n s, else the number (no unit).
-std::string time_step_label(double dt);  ///< "stable", "unstable", "timed_out", "not_run"
+std::string time_step_label(double dt);
 
 struct MapCell {
-  double dt = 0.0;  ///< s
-  CellStatus status = CellStatus::kNotRun;
-  RunVerdict verdict;  ///< meaningful unless kNotRun
+  double dt = 0.0;                    ///< s
+  std::optional<RunVerdict> verdict;  ///< empty: not run (a larger dt was stable, or timed out)
+  bool is(RunStatus status) const { return verdict && verdict->status == status; }
 };
 
 /// One stiffness of the map: a cell per time step.

@@ -12,20 +12,8 @@
 namespace softbench::harness {
 namespace {
 
-std::string status_name(RunStatus status) {
-  switch (status) {
-    case RunStatus::kStable:
-      return "stable";
-    case RunStatus::kUnstable:
-      return "unstable";
-    case RunStatus::kTimedOut:
-      return "timed_out";
-  }
-  return "?";
-}
-
 nlohmann::json verdict_json(const RunVerdict& verdict) {
-  return {{"status", status_name(verdict.status)},
+  return {{"status", to_string(verdict.status)},
           {"nan", verdict.nan},
           {"failure", verdict.failure},
           {"failed_at_step", verdict.failed_at_step >= 0 ? nlohmann::json(verdict.failed_at_step)
@@ -52,14 +40,14 @@ std::string map_cell_text(const MapRow& row) {
   if (row.max_stable_dt) {
     std::string text = time_step_label(*row.max_stable_dt);
     for (const MapCell& cell : row.cells) {
-      if (cell.status == CellStatus::kStable && cell.verdict.max_inverted_tets > 0) {
-        text += " (" + std::to_string(cell.verdict.max_inverted_tets) + " inv.)";
+      if (cell.is(RunStatus::kStable) && cell.verdict->max_inverted_tets > 0) {
+        text += " (" + std::to_string(cell.verdict->max_inverted_tets) + " inv.)";
       }
     }
     return text;
   }
   for (const MapCell& cell : row.cells) {
-    if (cell.status == CellStatus::kTimedOut) {
+    if (cell.is(RunStatus::kTimedOut)) {
       return "timed out at " + time_step_label(cell.dt);
     }
   }
@@ -112,9 +100,11 @@ nlohmann::json stability_json(const StabilityReport& report) {
     for (const MapRow& row : model.map) {
       nlohmann::json cells = nlohmann::json::array();
       for (const MapCell& cell : row.cells) {
-        nlohmann::json item = {{"dt", cell.dt}, {"status", to_string(cell.status)}};
-        if (cell.status != CellStatus::kNotRun) {
-          item["verdict"] = verdict_json(cell.verdict);
+        nlohmann::json item = {
+            {"dt", cell.dt},
+            {"status", cell.verdict ? to_string(cell.verdict->status) : "not_run"}};
+        if (cell.verdict) {
+          item["verdict"] = verdict_json(*cell.verdict);
         }
         cells.push_back(item);
       }

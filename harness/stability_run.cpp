@@ -140,6 +140,18 @@ std::vector<PositionConstraint> held_at(std::span<const int> vertices,
 
 }  // namespace
 
+std::string to_string(RunStatus status) {
+  switch (status) {
+    case RunStatus::kStable:
+      return "stable";
+    case RunStatus::kUnstable:
+      return "unstable";
+    case RunStatus::kTimedOut:
+      return "timed_out";
+  }
+  return "?";
+}
+
 bool RunVerdict::recovered(double threshold) const {
   return stable() && std::isfinite(residual) && residual < threshold;
 }

@@ -24,6 +24,8 @@ enum class RunStatus {
   kUnstable,  ///< a step blew up (see RunVerdict::failure)
   kTimedOut,  ///< the wall-clock budget ran out first: neither stable nor unstable
 };
+/// "stable", "unstable", "timed_out".
+std::string to_string(RunStatus status);
 
 /// What one bounded run found.
 struct RunVerdict {

@@ -121,10 +121,10 @@ TEST(ScanTimeSteps, StopsAtTheFirstStableStepFromTheLargest) {
   ASSERT_TRUE(row.max_stable_dt.has_value());
   EXPECT_EQ(*row.max_stable_dt, 1.0 / 120);
   ASSERT_EQ(row.cells.size(), 4u);
-  EXPECT_EQ(row.cells[0].status, CellStatus::kUnstable);
-  EXPECT_EQ(row.cells[1].status, CellStatus::kUnstable);
-  EXPECT_EQ(row.cells[2].status, CellStatus::kStable);
-  EXPECT_EQ(row.cells[3].status, CellStatus::kNotRun);
+  EXPECT_TRUE(row.cells[0].is(RunStatus::kUnstable));
+  EXPECT_TRUE(row.cells[1].is(RunStatus::kUnstable));
+  EXPECT_TRUE(row.cells[2].is(RunStatus::kStable));
+  EXPECT_FALSE(row.cells[3].verdict.has_value());  // not run
   EXPECT_EQ(row.cells[3].dt, 1.0 / 240);
 }
 
@@ -134,7 +134,7 @@ TEST(ScanTimeSteps, UnstableEverywhereHasNoStableStepAndATimeoutEndsTheScan) {
       scan_time_steps(1.0, steps, [](double) { return verdict_of(RunStatus::kUnstable); });
   EXPECT_FALSE(never.max_stable_dt.has_value());
   for (const MapCell& cell : never.cells) {
-    EXPECT_EQ(cell.status, CellStatus::kUnstable);
+    EXPECT_TRUE(cell.is(RunStatus::kUnstable));
   }
   int runs = 0;
   const MapRow slow = scan_time_steps(1.0, steps, [&](double dt) {
@@ -143,8 +143,8 @@ TEST(ScanTimeSteps, UnstableEverywhereHasNoStableStepAndATimeoutEndsTheScan) {
   });
   EXPECT_EQ(runs, 2);
   EXPECT_FALSE(slow.max_stable_dt.has_value());
-  EXPECT_EQ(slow.cells[1].status, CellStatus::kTimedOut);
-  EXPECT_EQ(slow.cells[2].status, CellStatus::kNotRun);
+  EXPECT_TRUE(slow.cells[1].is(RunStatus::kTimedOut));
+  EXPECT_FALSE(slow.cells[2].verdict.has_value());
 }
 
 TEST(StiffnessAxis, MapsEachModelAlongWhatSetsItsStiffness) {
@@ -243,14 +243,14 @@ TEST_F(StabilityRuns, TheMapFindsTheLargestStableStepOfAnExplicitModel) {
   ASSERT_TRUE(soft.max_stable_dt && stiff.max_stable_dt);
   // The stiffer material needs a smaller step, and the scan stopped at its first stable one.
   EXPECT_LT(*stiff.max_stable_dt, *soft.max_stable_dt);
-  EXPECT_EQ(stiff.cells[0].status, CellStatus::kUnstable);
-  EXPECT_THAT(stiff.cells[0].verdict.failure,
+  ASSERT_TRUE(stiff.cells[0].is(RunStatus::kUnstable));
+  EXPECT_THAT(stiff.cells[0].verdict->failure,
               ::testing::AnyOf(HasSubstr("NaN"), HasSubstr("over the limit")));
   for (const MapRow& row : springs.map) {
     bool seen_stable = false;
     for (const MapCell& cell : row.cells) {
-      EXPECT_EQ(cell.status == CellStatus::kNotRun, seen_stable);
-      seen_stable = seen_stable || cell.status == CellStatus::kStable;
+      EXPECT_EQ(!cell.verdict.has_value(), seen_stable);
+      seen_stable = seen_stable || cell.is(RunStatus::kStable);
     }
   }
 
@@ -258,7 +258,7 @@ TEST_F(StabilityRuns, TheMapFindsTheLargestStableStepOfAnExplicitModel) {
   const ModelStability matching = model_stability(scene_, mesh, "shape_matching", map_only);
   EXPECT_EQ(matching.axis.parameter, "alpha");
   for (const MapRow& row : matching.map) {
-    EXPECT_EQ(row.cells[0].status, CellStatus::kStable) << "alpha " << row.value;
+    EXPECT_TRUE(row.cells[0].is(RunStatus::kStable)) << "alpha " << row.value;
   }
 }
 
