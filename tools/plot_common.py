@@ -2,6 +2,8 @@
 (a viewer never sees a half-written file), and the convention that each script prints the path
 of every file it wrote, one per line (softbench reads them)."""
 
+import argparse
+import json
 import math
 import os
 import re
@@ -11,6 +13,21 @@ import matplotlib
 
 matplotlib.use("Agg")  # no display needed
 import matplotlib.pyplot as plt  # noqa: E402,F401  (re-exported for the scripts)
+
+
+def read_input(description, json_name):
+    """The command line every script takes (`<json_name> [--out DIR]`): the parsed JSON and the
+    output folder (default: the JSON's), created if missing."""
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument(json_name)
+    parser.add_argument("--out", default=None)
+    arguments = parser.parse_args()
+    path = getattr(arguments, json_name)
+    with open(path, encoding="utf-8") as handle:
+        data = json.load(handle)
+    out = arguments.out or os.path.dirname(os.path.abspath(path))
+    os.makedirs(out, exist_ok=True)
+    return data, out
 
 
 def finite_pairs(xs, ys):

@@ -13,14 +13,12 @@ A scene with no tool load has no force plot, one with no release no recovery plo
 path of every file written, one per line (softbench reads them).
 """
 
-import argparse
-import json
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_common import finite_pairs, plt, safe_name, save  # noqa: E402
+from plot_common import finite_pairs, plt, read_input, safe_name, save  # noqa: E402
 
 
 def plot_steps_per_second(data, out):
@@ -147,14 +145,7 @@ def plot_recovery(scene, out):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("compare_json")
-    parser.add_argument("--out", default=None)
-    arguments = parser.parse_args()
-    with open(arguments.compare_json, encoding="utf-8") as handle:
-        data = json.load(handle)
-    out = arguments.out or os.path.dirname(os.path.abspath(arguments.compare_json))
-    os.makedirs(out, exist_ok=True)
+    data, out = read_input(__doc__.splitlines()[0], "compare_json")
     plot_steps_per_second(data, out)
     for scene in data["scenes"]:
         plot_force_displacement(scene, out)

@@ -12,14 +12,12 @@ because a larger time step was already stable). Prints the path of every file wr
 line (softbench reads them).
 """
 
-import argparse
-import json
 import os
 import sys
 import textwrap
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_common import plt, safe_name, save  # noqa: E402
+from plot_common import plt, read_input, safe_name, save  # noqa: E402
 from matplotlib.colors import ListedColormap  # noqa: E402
 from matplotlib.patches import Patch  # noqa: E402
 
@@ -106,14 +104,7 @@ def plot_model(model, time_steps, out):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("stability_json")
-    parser.add_argument("--out", default=None)
-    arguments = parser.parse_args()
-    with open(arguments.stability_json, encoding="utf-8") as handle:
-        data = json.load(handle)
-    out = arguments.out or os.path.dirname(os.path.abspath(arguments.stability_json))
-    os.makedirs(out, exist_ok=True)
+    data, out = read_input(__doc__.splitlines()[0], "stability_json")
     time_steps = data["settings"]["time_steps"]
     for model in data["models"]:
         plot_model(model, time_steps, out)

@@ -7,23 +7,15 @@ against the reference (relative RMS, log) over its steps per second (log), one c
 each model's Pareto front joined by a line, and the 1%, 5% and 20% error budgets marked.
 """
 
-import argparse
-import json
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from plot_common import finite_pairs, plt, save  # noqa: E402
+from plot_common import finite_pairs, plt, read_input, save  # noqa: E402
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("sweep_json")
-    parser.add_argument("--out", default=None)
-    arguments = parser.parse_args()
-    with open(arguments.sweep_json, encoding="utf-8") as handle:
-        data = json.load(handle)
-    out = arguments.out or os.path.dirname(os.path.abspath(arguments.sweep_json))
+    data, out = read_input(__doc__.splitlines()[0], "sweep_json")
     records = [r for r in data["records"] if r["stable"]]
     pareto = set(data.get("pareto", []))
     figure, axes = plt.subplots(figsize=(7.5, 5.2))
