@@ -24,3 +24,24 @@ function(softbench_add_bench name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LINK} benchmark::benchmark_main softbench::warnings)
 endfunction()
+
+# softbench_add_provenance(TARGET): TARGET gets harness/build_revision.h (the git revision,
+# refreshed at every build) and the version, build type defines that harness/provenance.cpp reads.
+function(softbench_add_provenance target)
+  set(generated "${PROJECT_BINARY_DIR}/generated")
+  add_custom_target(softbench_build_revision
+    COMMAND ${CMAKE_COMMAND} -DSOURCE_DIR=${PROJECT_SOURCE_DIR}
+            -DOUTPUT=${generated}/harness/build_revision.h
+            -P ${PROJECT_SOURCE_DIR}/cmake/write_build_revision.cmake
+    BYPRODUCTS ${generated}/harness/build_revision.h
+    COMMENT "softbench: git revision")
+  add_dependencies(${target} softbench_build_revision)
+  target_include_directories(${target} PRIVATE ${generated})
+  set(build_type "${CMAKE_BUILD_TYPE}")
+  if(NOT build_type)
+    set(build_type "unspecified")
+  endif()
+  target_compile_definitions(${target} PRIVATE SOFTBENCH_VERSION="${PROJECT_VERSION}"
+                                               SOFTBENCH_BUILD_TYPE="${build_type}")
+  target_link_libraries(${target} PRIVATE OpenMP::OpenMP_CXX)
+endfunction()

@@ -31,6 +31,18 @@ using ModelFactory = std::function<std::unique_ptr<SoftBody>(const TetMesh& mesh
                                                              const nlohmann::json& params,
                                                              const ParamSource& source)>;
 
+/// What the stability map varies for a model: the material's Young's modulus (the default, for
+/// a model whose stiffness follows the material), or a parameter of the model without a unit.
+struct StiffnessAxisSpec {
+  std::string parameter = "young_modulus";  ///< "young_modulus", or the model parameter's key
+  bool material = true;  ///< true: the material's Young's modulus; false: params[parameter]
+  /// Parameters set for every map run (e.g. mass_spring: springs derived from E).
+  nlohmann::json fixed_params = nlohmann::json::object();
+  std::string note = "the material's Young's modulus";  ///< one line for the report
+};
+
+/// Everything the harness needs to know about a model: a new model declares it here, in its own
+/// folder, and touches nothing in harness/ or scenes/.
 struct ModelInfo {
   std::string name;     ///< the key used in scenes and on the CLI, e.g. "mass_spring"
   std::string summary;  ///< one line for `softbench models`
@@ -39,6 +51,11 @@ struct ModelInfo {
   /// A converged reference (slow): runs only when named, or as the reference of a sweep or an
   /// accuracy requirement.
   bool reference = false;
+  StiffnessAxisSpec stiffness_axis;
+  /// Parameters that damp a run meant only to reach a static equilibrium (calibration), set
+  /// where the scene's block sets none (or zero): the equilibrium does not depend on them, and
+  /// the run gets there sooner. Empty: the model has no damping to add.
+  nlohmann::json settling_damping = nlohmann::json::object();
 };
 
 /// The models a build knows, by name. Explicit registration (builtin_models.cpp), not static

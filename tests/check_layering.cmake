@@ -1,5 +1,6 @@
-# Fails when a folder includes a header from a folder above it in DESIGN.md's table, or when a
-# library folder includes TetGen (AGPL: only meshgen/ and the CLI may).
+# Fails when a folder includes a header from a folder above it in the layering of
+# docs/architecture.md (geometry; models and collision; scenes; harness), or when a library
+# folder includes TetGen (AGPL: only meshgen/ and the CLI may).
 set(forbidden
   "geometry:models/|collision/|scenes/|harness/|meshgen/|tetgen.h"
   "models:collision/|scenes/|harness/|meshgen/|tetgen.h"

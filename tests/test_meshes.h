@@ -6,7 +6,8 @@
 #include <filesystem>
 #include <string>
 
-// Small meshes made in code, shared by every test executable. Tests never read ../shared.
+// Small meshes made in code, shared by every test executable. Tests read no file outside the
+// repository.
 namespace softbench::test {
 
 /// The unit right-angled tet (0,0,0) (1,0,0) (0,1,0) (0,0,1), positively oriented, volume 1/6.

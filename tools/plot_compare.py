@@ -35,9 +35,10 @@ def plot_steps_per_second(data, out):
     for index, scene in enumerate(scenes):
         by_label = {run["model"]: run for run in scene["runs"]}
         colour = colours[index % len(colours)]
-        for key, what in (("fps", "simulation"), ("fps_with_collision", "with collision")):
-            values = [by_label[label][key] if label in by_label else 0.0 for label in labels]
-            series.append((scene["name"] + ", " + what, values, colour, key != "fps"))
+        for key, what in (("steps_per_second", "simulation"),
+                          ("steps_per_second_with_collision", "with collision")):
+            values = [by_label[label]["timing"][key] if label in by_label else 0.0 for label in labels]
+            series.append((scene["name"] + ", " + what, values, colour, key != "steps_per_second"))
     width = 0.8 / len(series)
     figure, axes = plt.subplots(figsize=(max(8.0, 1.4 * len(labels) + 4.5), 5.0))
     for index, (legend, values, colour, collision) in enumerate(series):
@@ -87,7 +88,7 @@ def plot_force_displacement(scene, out):
     release = release_time(scene)
     drawn = False
     for run in scene["runs"]:
-        samples = run["samples"]
+        samples = run["series"]
         times = samples["time"]
         forces = samples["tool_force"]
         travel = samples["tool_displacement"]
@@ -123,7 +124,7 @@ def plot_recovery(scene, out):
     figure, axes = plt.subplots(figsize=(7.0, 5.0))
     drawn = False
     for run in scene["runs"]:
-        samples = run["samples"]
+        samples = run["series"]
         ts, rs = finite_pairs(samples["time"], samples["recovery_residual"])
         points = [(t, 100.0 * r) for t, r in zip(ts, rs) if r > 0.0]  # log axis: positive only
         if points:

@@ -87,6 +87,7 @@ ModelInfo corotational_fem_info() {
     validate_material(material, source.file + ": /material");
     return std::make_unique<corotational_fem::CorotationalFemModel>(mesh, material, parsed);
   };
+  info.settling_damping = {{"rayleigh_mass", 2.0}};  // 1/s
   return info;
 }
 

@@ -77,6 +77,10 @@ ModelInfo mass_spring_info() {
     validate_material(material, source.file + ": /material");
     return std::make_unique<mass_spring::MassSpringModel>(mesh, material, parsed);
   };
+  info.settling_damping = {{"mass_damping", 2.0}};  // 1/s
+  info.stiffness_axis.fixed_params = {{"stiffness_from", "young_modulus"}};
+  info.stiffness_axis.note =
+      "the material's Young's modulus, springs derived from it (stiffness_from = young_modulus)";
   return info;
 }
 

@@ -56,8 +56,8 @@ namespace softbench {
 // sets in below ~1/240 s: at the scenes' 1/60 s backward Euler's numerical damping of this
 // undamped sag is far from converged, so a reference for an undamped scene needs dt <= 1/480 s
 // (sweep --reference-substeps 8). The harness's default reference runs at dt/4
-// (harness/reference.h): the shipped press and pull scenes damp the sag (rayleigh_mass 5 /s), which
-// that default relies on; it is not converged for an undamped scene.
+// (harness/run/reference.h): the shipped press and pull scenes damp the sag (rayleigh_mass
+// 5 /s), which that default relies on; it is not converged for an undamped scene.
 
 struct NeoHookeanParams {
   enum class Projection { kAlways, kFallback };

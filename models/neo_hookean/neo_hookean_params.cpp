@@ -73,6 +73,7 @@ ModelInfo neo_hookean_info() {
     validate_material(material, source.file + ": /material");
     return std::make_unique<neo_hookean::NeoHookeanModel>(mesh, material, parsed);
   };
+  info.settling_damping = {{"rayleigh_mass", 2.0}};  // 1/s
   return info;
 }
 

@@ -76,6 +76,9 @@ ModelInfo shape_matching_info() {
     validate_material(material, source.file + ": /material");
     return std::make_unique<shape_matching::ShapeMatchingModel>(mesh, material, parsed);
   };
+  info.stiffness_axis = {"alpha", false, nlohmann::json::object(),
+                         "alpha (pull toward the goal per step); shape matching ignores Young's "
+                         "modulus"};
   return info;
 }
 

@@ -157,7 +157,7 @@ class Sampler {
             static_cast<double>(integer(lo, hi))};
   }
 
-  /// The notes' recipe (section 2).
+  /// The random-pair recipe (see random_pairs in pair_sets.h).
   TriPair recipe_pair() {
     TriPair pair;
     const Vec3 centre(uniform(0.0, 1.0), uniform(0.0, 1.0), uniform(0.0, 1.0));

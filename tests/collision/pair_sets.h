@@ -2,8 +2,8 @@
 #pragma once
 
 // Test data for the triangle-triangle tests: the designed pairs (every case of the thesis's
-// figure 4.14 and every singular contact, with hand-derived answers), the random-pair recipe of
-// shared/notes/collision.md section 2 and near-degenerate families. Deterministic (fixed seeds).
+// figure 4.14 and every singular contact, with hand-derived answers), random pairs (the recipe
+// at random_pairs) and near-degenerate families. Deterministic (fixed seeds).
 
 #include "collision/tri_tri_result.h"
 
@@ -34,7 +34,7 @@ struct DesignedPair {
 /// on x and each case can be placed to be rejected on V, rejected on W, or decided in H.
 std::vector<DesignedPair> designed_pairs();
 
-/// `count` pairs by the notes' recipe: A's centre uniform in the unit cube, vertices jittered by
+/// `count` random pairs: A's centre uniform in the unit cube, vertices jittered by
 /// +-0.1; B centred at A's centroid + U[-0.05, 0.05]^3, vertices +-0.1, clamped to the cube.
 /// About 30 % intersect.
 std::vector<TriPair> random_pairs(std::size_t count, std::uint64_t seed);

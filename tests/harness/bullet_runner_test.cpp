@@ -4,9 +4,10 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_validation.h"
-#include "harness/calibrate_command.h"
-#include "harness/report.h"
-#include "harness/runner.h"
+#include "harness/calibrate/calibration.h"
+#include "harness/report/run_report.h"
+#include "harness/report/model_run_json.h"
+#include "harness/run/runner.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
 
@@ -50,16 +51,16 @@ TEST_F(BulletRunnerTest, ExplicitCorotatedAtOneSixtiethIsReportedUnstableNotACra
       options);
   ASSERT_EQ(runs.size(), 2u);
   const ModelRun& corotated = runs[0];
-  EXPECT_FALSE(corotated.stable);
-  ASSERT_TRUE(corotated.diverged_at_step.has_value());
-  EXPECT_LT(*corotated.diverged_at_step, corotated.steps_planned);
-  EXPECT_FALSE(corotated.divergence.empty());
+  EXPECT_FALSE(corotated.stability.stable);
+  ASSERT_TRUE(corotated.stability.diverged_at_step.has_value());
+  EXPECT_LT(*corotated.stability.diverged_at_step, corotated.timing.steps_planned);
+  EXPECT_FALSE(corotated.stability.divergence.empty());
   const nlohmann::json json = to_json(corotated);
-  EXPECT_EQ(json["stable"], false);
+  EXPECT_EQ(json["stability"]["stable"], false);
   EXPECT_EQ(json["params"]["force"], "corotated");
   // The run goes on with the next model.
-  EXPECT_TRUE(runs[1].stable) << runs[1].divergence;
-  EXPECT_EQ(runs[1].steps_run, runs[1].steps_planned);
+  EXPECT_TRUE(runs[1].stability.stable) << runs[1].stability.divergence;
+  EXPECT_EQ(runs[1].timing.steps_run, runs[1].timing.steps_planned);
 }
 
 TEST_F(BulletRunnerTest, ImplicitNeoHookeanAtOneSixtiethRunsStableWithExactPins) {
@@ -67,10 +68,10 @@ TEST_F(BulletRunnerTest, ImplicitNeoHookeanAtOneSixtiethRunsStableWithExactPins)
   options.models = {"bullet_deformable"};
   const std::vector<ModelRun> runs = run_scene(scene("{}", 1.0 / 60.0), options);
   ASSERT_EQ(runs.size(), 1u);
-  EXPECT_TRUE(runs[0].stable) << runs[0].divergence;
-  EXPECT_EQ(runs[0].max_constraint_error, 0.0);
-  EXPECT_GT(runs[0].mean_iterations, 0.0);  // CG iterations reach the metrics
-  EXPECT_GT(runs[0].linear_solves, 0);
+  EXPECT_TRUE(runs[0].stability.stable) << runs[0].stability.divergence;
+  EXPECT_EQ(runs[0].solver.max_constraint_error, 0.0);
+  EXPECT_GT(runs[0].solver.mean_iterations, 0.0);  // CG iterations reach the metrics
+  EXPECT_GT(runs[0].solver.linear_solves, 0);
 }
 
 TEST_F(BulletRunnerTest, CalibrationMatchesTheReferenceSagAndRecordsIt) {

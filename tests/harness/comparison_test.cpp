@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
-#include "harness/comparison.h"
+#include "harness/compare/comparison.h"
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
-#include "harness/comparison_plots.h"
-#include "harness/comparison_report.h"
-#include "harness/mesh_override.h"
+#include "harness/report/comparison_plots.h"
+#include "harness/report/comparison_report.h"
+#include "harness/run/mesh_override.h"
 #include "models/json_reader.h"
 #include "models/model_registry.h"
 #include "scenes/scene.h"
@@ -37,26 +37,26 @@ ModelRun run_of(const std::string& label,
                 double volume_change = 0.01) {
   ModelRun run;
   run.model = label;
-  run.steps_planned = run.steps_run = 100;
-  run.fps = 500.0;
-  run.fps_with_collision = 400.0;
-  run.max_inverted_tets = inverted_tets;
-  run.volume_change = volume_change;
-  run.recovery_measured = true;
-  run.recovery_residual = residual;
+  run.timing.steps_planned = run.timing.steps_run = 100;
+  run.timing.steps_per_second = 500.0;
+  run.timing.steps_per_second_with_collision = 400.0;
+  run.shape.max_inverted_tets = inverted_tets;
+  run.shape.volume_change = volume_change;
+  run.recovery.measured = true;
+  run.recovery.residual = residual;
   if (residual < 0.01) {
-    run.time_to_1pct = 0.5;
+    run.recovery.time_to_one_percent = 0.5;
   }
   return run;
 }
 
 ModelRun diverged(const std::string& label) {
   ModelRun run = run_of(label, 0.0);
-  run.stable = false;
-  run.diverged_at_step = 42;
-  run.divergence = "speed 80 m/s over the limit 50 m/s";
-  run.recovery_measured = false;
-  run.time_to_1pct.reset();
+  run.stability.stable = false;
+  run.stability.diverged_at_step = 42;
+  run.stability.divergence = "speed 80 m/s over the limit 50 m/s";
+  run.recovery.measured = false;
+  run.recovery.time_to_one_percent.reset();
   return run;
 }
 
@@ -65,9 +65,9 @@ SceneComparison scene_of(const std::string& name, std::vector<ModelRun> runs) {
 }
 
 // By value: callers pass the temporary that check_claims() returns.
-ClaimCheck claim(const std::vector<ClaimCheck>& claims, const std::string& id) {
+Claim claim(const std::vector<Claim>& claims, const std::string& id) {
   const auto found =
-      std::find_if(claims.begin(), claims.end(), [&](const ClaimCheck& c) { return c.id == id; });
+      std::find_if(claims.begin(), claims.end(), [&](const Claim& c) { return c.id == id; });
   if (found == claims.end()) {
     throw std::logic_error("no claim " + id);
   }
@@ -87,7 +87,7 @@ Verdict verdict_of(const std::vector<SceneComparison>& scenes, const char* id) {
 TEST(ShapeMatchingClaim, PassesWhenEverySceneRecoversBelowOnePercentWithoutInvertedTets) {
   const std::vector<SceneComparison> scenes{scene_of("press", {run_of("shape_matching", 0.004)}),
                                             scene_of("pull", {run_of("shape_matching", 0.0099)})};
-  const ClaimCheck check = claim(check_claims(scenes), kShapeMatching);
+  const Claim check = claim(check_claims(scenes), kShapeMatching);
   EXPECT_EQ(check.verdict, Verdict::kPass);
   EXPECT_THAT(check.evidence, HasSubstr("press: residual 0.40%"));
   EXPECT_THAT(check.evidence, HasSubstr("pull: residual 0.99%"));
@@ -96,7 +96,7 @@ TEST(ShapeMatchingClaim, PassesWhenEverySceneRecoversBelowOnePercentWithoutInver
 TEST(ShapeMatchingClaim, FailsWhenOneSceneEndsAtOrAboveOnePercent) {
   const std::vector<SceneComparison> scenes{scene_of("press", {run_of("shape_matching", 0.004)}),
                                             scene_of("pull", {run_of("shape_matching", 0.01)})};
-  const ClaimCheck check = claim(check_claims(scenes), kShapeMatching);
+  const Claim check = claim(check_claims(scenes), kShapeMatching);
   EXPECT_EQ(check.verdict, Verdict::kFail);
   EXPECT_THAT(check.evidence, HasSubstr("pull: residual 1.00% (never below 1% for good)"));
 }
@@ -104,14 +104,14 @@ TEST(ShapeMatchingClaim, FailsWhenOneSceneEndsAtOrAboveOnePercent) {
 TEST(ShapeMatchingClaim, FailsOnAnInvertedTetEvenWhenItRecovers) {
   const std::vector<SceneComparison> scenes{
       scene_of("pull", {run_of("shape_matching", 0.001, /*inverted_tets=*/3)})};
-  const ClaimCheck check = claim(check_claims(scenes), kShapeMatching);
+  const Claim check = claim(check_claims(scenes), kShapeMatching);
   EXPECT_EQ(check.verdict, Verdict::kFail);
   EXPECT_THAT(check.evidence, HasSubstr("3 inverted tets"));
 }
 
 TEST(ShapeMatchingClaim, FailsWhenItDiverges) {
   const std::vector<SceneComparison> scenes{scene_of("pull", {diverged("shape_matching")})};
-  const ClaimCheck check = claim(check_claims(scenes), kShapeMatching);
+  const Claim check = claim(check_claims(scenes), kShapeMatching);
   EXPECT_EQ(check.verdict, Verdict::kFail);
   EXPECT_THAT(check.evidence, HasSubstr("diverged at step 42"));
 }
@@ -120,7 +120,7 @@ TEST(ShapeMatchingClaim, IsNotRunWithoutItsRowOrWithoutARelease) {
   EXPECT_EQ(verdict_of({scene_of("pull", {run_of("mass_spring", 0.001)})}, kShapeMatching),
             Verdict::kNotRun);
   ModelRun held = run_of("shape_matching", 0.0);
-  held.recovery_measured = false;
+  held.recovery.measured = false;
   EXPECT_EQ(verdict_of({scene_of("hold", {held})}, kShapeMatching), Verdict::kNotRun);
 }
 
@@ -129,7 +129,7 @@ TEST(ShapeMatchingClaim, IsNotRunWithoutItsRowOrWithoutARelease) {
 TEST(MassSpringClaim, IsObservedWhenOneSceneDoesNotRecover) {
   const std::vector<SceneComparison> scenes{scene_of("press", {run_of("mass_spring", 0.002)}),
                                             scene_of("pull", {run_of("mass_spring", 0.08, 12)})};
-  const ClaimCheck check = claim(check_claims(scenes), kMassSpring);
+  const Claim check = claim(check_claims(scenes), kMassSpring);
   EXPECT_EQ(check.verdict, Verdict::kObserved);
   EXPECT_THAT(check.evidence, HasSubstr("pull: residual 8.00%"));
   EXPECT_THAT(check.evidence, HasSubstr("12 inverted tets"));
@@ -155,7 +155,7 @@ TEST(LinearFemClaim, PassesWhenLinearInflatesAndCorotationalStaysFit) {
   const std::vector<SceneComparison> scenes{
       scene_of("pull", {run_of("corotational_fem", 0.002, 0, 0.01),
                         run_of("corotational_fem(linear)", 0.002, 0, 0.06)})};
-  const ClaimCheck check = claim(check_claims(scenes), kLinearFem);
+  const Claim check = claim(check_claims(scenes), kLinearFem);
   EXPECT_EQ(check.verdict, Verdict::kPass);
   EXPECT_THAT(check.evidence, HasSubstr("max volume change 6.00%"));
 }
@@ -252,12 +252,12 @@ Comparison sample_comparison() {
   sm.params = {{"alpha", 0.72}};
   sm.vertices = 12;
   sm.tets = 6;
-  sm.step_ms = {0.1, 0.2, 0.3};
-  sm.step_with_collision_ms = {0.15, 0.25, 0.35};
-  sm.max_penetration = 0.0004;
-  sm.lost_contact_vertices = 2;
-  sm.peak_tool_force = 1.25;
-  sm.mean_iterations = 3.5;
+  sm.timing.step_ms = {0.1, 0.2, 0.3};
+  sm.timing.step_with_collision_ms = {0.15, 0.25, 0.35};
+  sm.contact.max_penetration = 0.0004;
+  sm.contact.lost_contact_vertices = 2;
+  sm.contact.peak_tool_force = 1.25;
+  sm.solver.mean_iterations = 3.5;
   sm.samples = {{0.1, 0.0, 0.0, kNaN}, {0.2, 0.01, 0.5, kNaN}, {0.3, 0.0, 0.0, 0.02}};
   ModelRun ms = diverged("mass_spring");
   Comparison comparison;
@@ -277,24 +277,24 @@ TEST(CompareJson, RoundTripsEveryFieldItWrites) {
   ASSERT_EQ(back.scenes[0].runs.size(), 2u);
   const ModelRun& sm = back.scenes[0].runs[0];
   EXPECT_EQ(sm.model, "shape_matching");
-  EXPECT_EQ(sm.peak_tool_force, 1.25);
-  EXPECT_EQ(sm.lost_contact_vertices, 2);
-  EXPECT_EQ(sm.step_with_collision_ms.p95, 0.25);
+  EXPECT_EQ(sm.contact.peak_tool_force, 1.25);
+  EXPECT_EQ(sm.contact.lost_contact_vertices, 2);
+  EXPECT_EQ(sm.timing.step_with_collision_ms.p95, 0.25);
   ASSERT_EQ(sm.samples.size(), 3u);
   EXPECT_TRUE(std::isnan(sm.samples[0].recovery_residual));  // null in the file
   EXPECT_EQ(sm.samples[2].recovery_residual, 0.02);
   EXPECT_EQ(sm.samples[1].tool_force, 0.5);
   const ModelRun& ms = back.scenes[0].runs[1];
-  EXPECT_FALSE(ms.stable);
-  EXPECT_EQ(ms.diverged_at_step, 42);
-  EXPECT_FALSE(ms.recovery_measured);
+  EXPECT_FALSE(ms.stability.stable);
+  EXPECT_EQ(ms.stability.diverged_at_step, 42);
+  EXPECT_FALSE(ms.recovery.measured);
   ASSERT_EQ(back.claims.size(), 3u);
   for (std::size_t i = 0; i < back.claims.size(); ++i) {
     EXPECT_EQ(back.claims[i].verdict, original.claims[i].verdict) << back.claims[i].id;
   }
   EXPECT_EQ(json["thesis"]["steps_per_second"]["shape_matching"], 787.0);
   EXPECT_EQ(json["scenes"][0]["runs"][0]["thesis_steps_per_second"], 787.0);
-  EXPECT_TRUE(json["scenes"][0]["runs"][0]["samples"]["recovery_residual"][0].is_null());
+  EXPECT_TRUE(json["scenes"][0]["runs"][0]["series"]["recovery_residual"][0].is_null());
 }
 
 TEST(CompareJson, RejectsAnotherSchemaVersionAndAMissingKeyNamingThePointer) {
@@ -302,12 +302,12 @@ TEST(CompareJson, RejectsAnotherSchemaVersionAndAMissingKeyNamingThePointer) {
   json["softbench_compare"] = kCompareSchemaVersion + 1;
   EXPECT_THROW(comparison_from_json(json), InputError);
   json = comparison_json(sample_comparison());
-  json["scenes"][0]["runs"][1].erase("peak_tool_force");
+  json["scenes"][0]["runs"][1]["contact"].erase("peak_tool_force");
   try {
     comparison_from_json(json);
     FAIL() << "expected InputError";
   } catch (const InputError& error) {
-    EXPECT_THAT(error.what(), HasSubstr("/scenes/0/runs/1/peak_tool_force"));
+    EXPECT_THAT(error.what(), HasSubstr("/scenes/0/runs/1/contact/peak_tool_force"));
   }
   json = comparison_json(sample_comparison());
   json["claims"][0]["verdict"] = "maybe";
@@ -420,10 +420,10 @@ TEST(CompareEndToEnd, RunsTwoModelsAndTheLinearVariantAndWritesTheReports) {
   EXPECT_EQ(scene.runs[1].params["formulation"], "corotational");
   EXPECT_EQ(scene.runs[2].params["rayleigh_mass"], 2.0);  // the scene's block, overridden
   for (const ModelRun& run : scene.runs) {
-    EXPECT_TRUE(run.stable) << run.model << ": " << run.divergence;
-    EXPECT_EQ(run.steps_run, 90) << run.model;
+    EXPECT_TRUE(run.stability.stable) << run.model << ": " << run.stability.divergence;
+    EXPECT_EQ(run.timing.steps_run, 90) << run.model;
     EXPECT_EQ(run.samples.size(), 90u) << run.model;
-    EXPECT_TRUE(run.recovery_measured) << run.model;
+    EXPECT_TRUE(run.recovery.measured) << run.model;
   }
   EXPECT_EQ(comparison.claims.size(), 3u);
 
@@ -431,7 +431,7 @@ TEST(CompareEndToEnd, RunsTwoModelsAndTheLinearVariantAndWritesTheReports) {
   write_comparison(out, comparison);
   const nlohmann::json json = parse_json_file((out / "compare.json").string());
   EXPECT_EQ(comparison_json(comparison_from_json(json)), json);
-  EXPECT_EQ(json["scenes"][0]["runs"][0]["samples"]["time"].size(), 90u);
+  EXPECT_EQ(json["scenes"][0]["runs"][0]["series"]["time"].size(), 90u);
   std::ostringstream markdown;
   markdown << std::ifstream(out / "compare.md").rdbuf();
   const std::string text = markdown.str();

@@ -2,7 +2,7 @@
 // End to end: a box instrument presses a block of tissue, holds and withdraws, through the
 // runner and every softbench model.
 #include "geometry/mesh_io.h"
-#include "harness/runner.h"
+#include "harness/run/runner.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
 
@@ -72,23 +72,23 @@ using GeometricModelPress = InstrumentPress;
 
 TEST_P(PhysicalModelPress, NeitherPassesThroughNorLetsGoAndTheTissueRecovers) {
   const ModelRun run = run_model();
-  ASSERT_TRUE(run.stable) << run.divergence;
+  ASSERT_TRUE(run.stability.stable) << run.stability.divergence;
 
   // While the tool presses and holds, no tissue vertex ends deeper inside it (nor a point of the
   // tool inside the tissue) than 0.5 mm, 5% of the press depth. Withdrawal is reported, not
   // asserted: contact is decided before the step, and a vertex the tool let go of may spring
   // back past it within the step.
-  EXPECT_LT(run.max_penetration_pressing, 0.5e-3);
-  RecordProperty("max_penetration_um", static_cast<int>(1e6 * run.max_penetration));
+  EXPECT_LT(run.contact.max_penetration_pressing, 0.5e-3);
+  RecordProperty("max_penetration_um", static_cast<int>(1e6 * run.contact.max_penetration));
   // Reported, not asserted: vertices at the rim of the punch may part from its edge as the
   // block bulges around it.
-  RecordProperty("lost_contact_vertices", run.lost_contact_vertices);
-  RecordProperty("peak_tool_force_mN", static_cast<int>(1000.0 * run.peak_tool_force));
+  RecordProperty("lost_contact_vertices", run.contact.lost_contact_vertices);
+  RecordProperty("peak_tool_force_mN", static_cast<int>(1000.0 * run.contact.peak_tool_force));
   // Reported: 0 while contact keeps the tissue outside the tool's margin at each step's start.
-  RecordProperty("max_triangle_pairs", run.max_triangle_pairs);
+  RecordProperty("max_triangle_pairs", run.contact.max_triangle_pairs);
 
-  ASSERT_TRUE(run.recovery_measured);
-  EXPECT_LT(run.recovery_residual, 0.01);
+  ASSERT_TRUE(run.recovery.measured);
+  EXPECT_LT(run.recovery.residual, 0.01);
 
   // While pressing, the force rises with the depth: never drops by more than 2% of the peak
   // from one step to the next (a dynamic run ripples; a tool that slips through would drop to 0).
@@ -99,15 +99,15 @@ TEST_P(PhysicalModelPress, NeitherPassesThroughNorLetsGoAndTheTissueRecovers) {
       continue;
     }
     ++pressing_steps;
-    EXPECT_GE(sample.tool_force, previous - 0.02 * run.peak_tool_force) << "t = " << sample.time;
+    EXPECT_GE(sample.tool_force, previous - 0.02 * run.contact.peak_tool_force) << "t = " << sample.time;
     previous = std::max(previous, sample.tool_force);
   }
   EXPECT_GT(pressing_steps, 30);
   // Pressed 1 cm, a 10 kPa block pushes back on a 3 x 3 cm tool with about E * A * strain = 1.8 N
   // (more under the tool's edges, less for a model softer than the continuum): an order of
   // magnitude, not an exact value.
-  EXPECT_GT(run.peak_tool_force, 0.3);
-  EXPECT_LT(run.peak_tool_force, 20.0);
+  EXPECT_GT(run.contact.peak_tool_force, 0.3);
+  EXPECT_LT(run.contact.peak_tool_force, 20.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Models,
@@ -120,10 +120,10 @@ INSTANTIATE_TEST_SUITE_P(Models,
 // still come back to its shape.
 TEST_P(GeometricModelPress, RecoversAfterThePress) {
   const ModelRun run = run_model();
-  ASSERT_TRUE(run.stable) << run.divergence;
-  RecordProperty("max_penetration_um", static_cast<int>(1e6 * run.max_penetration));
-  ASSERT_TRUE(run.recovery_measured);
-  EXPECT_LT(run.recovery_residual, 0.01);
+  ASSERT_TRUE(run.stability.stable) << run.stability.divergence;
+  RecordProperty("max_penetration_um", static_cast<int>(1e6 * run.contact.max_penetration));
+  ASSERT_TRUE(run.recovery.measured);
+  EXPECT_LT(run.recovery.residual, 0.01);
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, GeometricModelPress, ::testing::Values("shape_matching"));

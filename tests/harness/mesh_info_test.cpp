@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "harness/mesh_info.h"
+#include "harness/report/mesh_info.h"
 
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "harness/metrics.h"
+#include "harness/run/metrics.h"
 
 #include "geometry/mesh_validation.h"
 #include "tests/test_meshes.h"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include "harness/python_plot.h"
+#include "harness/report/python_plot.h"
 
 #include <gtest/gtest.h>
 

@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "harness/runner.h"
+#include "harness/run/runner.h"
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
-#include "harness/report.h"
+#include "harness/report/model_run_json.h"
+#include "harness/report/run_report.h"
 #include "models/json_reader.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
@@ -50,15 +51,15 @@ TEST_F(RunnerTest, RunsAStableModelAndMeasuresItsRecovery) {
       scene(R"({"mass_spring": {"stiffness_from": "young_modulus", "damping": 0.5}})"), options);
   ASSERT_EQ(runs.size(), 1u);
   const ModelRun& run = runs[0];
-  EXPECT_TRUE(run.stable) << run.divergence;
-  EXPECT_EQ(run.steps_run, run.steps_planned);
-  EXPECT_GT(run.fps, 0.0);
-  EXPECT_LE(run.step_ms.median, run.step_ms.p95);
-  EXPECT_LE(run.step_ms.p95, run.step_ms.max);
-  EXPECT_TRUE(run.recovery_measured);
+  EXPECT_TRUE(run.stability.stable) << run.stability.divergence;
+  EXPECT_EQ(run.timing.steps_run, run.timing.steps_planned);
+  EXPECT_GT(run.timing.steps_per_second, 0.0);
+  EXPECT_LE(run.timing.step_ms.median, run.timing.step_ms.p95);
+  EXPECT_LE(run.timing.step_ms.p95, run.timing.step_ms.max);
+  EXPECT_TRUE(run.recovery.measured);
   // Released at 0.5 s with 2.5 s to go: a damped elastic bar comes back to rest.
-  EXPECT_LT(run.recovery_residual, 0.01);
-  EXPECT_TRUE(run.time_to_1pct.has_value());
+  EXPECT_LT(run.recovery.residual, 0.01);
+  EXPECT_TRUE(run.recovery.time_to_one_percent.has_value());
   EXPECT_EQ(run.params["damping"], 0.5);
 }
 
@@ -72,14 +73,14 @@ TEST_F(RunnerTest, ReportsABlowUpAsUnstableAndGoesOn) {
           1.0 / 30.0),
       options);
   ASSERT_EQ(runs.size(), 1u);
-  EXPECT_FALSE(runs[0].stable);
-  ASSERT_TRUE(runs[0].diverged_at_step.has_value());
-  EXPECT_LT(*runs[0].diverged_at_step, runs[0].steps_planned);
-  EXPECT_FALSE(runs[0].divergence.empty());
-  EXPECT_FALSE(runs[0].recovery_measured);
+  EXPECT_FALSE(runs[0].stability.stable);
+  ASSERT_TRUE(runs[0].stability.diverged_at_step.has_value());
+  EXPECT_LT(*runs[0].stability.diverged_at_step, runs[0].timing.steps_planned);
+  EXPECT_FALSE(runs[0].stability.divergence.empty());
+  EXPECT_FALSE(runs[0].recovery.measured);
   const nlohmann::json json = to_json(runs[0]);
-  EXPECT_EQ(json["stable"], false);
-  EXPECT_EQ(json["diverged_at_step"], *runs[0].diverged_at_step);
+  EXPECT_EQ(json["stability"]["stable"], false);
+  EXPECT_EQ(json["stability"]["diverged_at_step"], *runs[0].stability.diverged_at_step);
 }
 
 TEST_F(RunnerTest, RejectsAnUnknownModelAndABadParameterBlockNamingTheScene) {
@@ -110,14 +111,25 @@ TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
   const nlohmann::json metrics = parse_json_file((dir_.path() / "out" / "metrics.json").string());
   ASSERT_EQ(metrics["runs"].size(), 1u);
   const nlohmann::json& run = metrics["runs"][0];
-  for (const char* key :
-       {"model", "params", "mesh", "steps", "step_ms", "fps", "fps_with_collision", "stable",
-        "max_inverted_tets", "volume_change", "recovery", "accuracy"}) {
+  for (const char* key : {"model", "params", "mesh", "timing", "stability", "shape", "recovery",
+                          "contact", "solver", "accuracy", "series"}) {
     EXPECT_TRUE(run.contains(key)) << key;
   }
-  EXPECT_TRUE(run["recovery"].contains("residual_rms_rel"));
-  EXPECT_TRUE(run["recovery"].contains("time_to_1pct_s"));
+  for (const char* key : {"steps_planned", "steps_run", "step_ms", "steps_per_second",
+                          "step_with_collision_ms", "steps_per_second_with_collision"}) {
+    EXPECT_TRUE(run["timing"].contains(key)) << key;
+  }
+  for (const char* key : {"stable", "diverged_at_step", "divergence", "max_speed"}) {
+    EXPECT_TRUE(run["stability"].contains(key)) << key;
+  }
+  EXPECT_TRUE(run["shape"].contains("max_inverted_tets"));
+  EXPECT_TRUE(run["shape"].contains("volume_change"));
+  EXPECT_TRUE(run["recovery"].contains("residual"));
+  EXPECT_TRUE(run["recovery"].contains("time_to_one_percent_s"));
   EXPECT_TRUE(metrics["scene"].contains("material"));
+  for (const char* key : {"softbench", "revision", "build_type", "compiler", "cpu", "threads"}) {
+    EXPECT_TRUE(metrics["provenance"].contains(key)) << key;
+  }
   EXPECT_TRUE(std::filesystem::exists(dir_.path() / "out" / "summary.md"));
   EXPECT_TRUE(
       std::filesystem::exists(dir_.path() / "out" / "frames" / "mass_spring" / "frame_00060.vtu"));

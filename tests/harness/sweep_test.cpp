@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
-#include "harness/sweep.h"
+#include "harness/sweep/sweep.h"
+#include "models/model_registry.h"
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
-#include "harness/recommend.h"
+#include "harness/sweep/recommend.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
 
@@ -63,10 +64,11 @@ class SweepTest : public ::testing::Test {
 };
 
 TEST_F(SweepTest, GridIsTheProductOfTheAxesThatApplyToEachModel) {
+  const std::vector<std::string> models = {"corotational_fem", "mass_spring"};
   const std::vector<SweepPoint> points = sweep_grid(
-      scene(),
+      scene(), "mesh",
       {parse_sweep_axis("model.dt=1/50,1/100"), parse_sweep_axis("mass_spring.damping=0.1,0.5,1")},
-      {}, "neo_hookean");
+      models, "neo_hookean");
   int fem = 0;
   int springs = 0;
   std::set<std::string> ids;
@@ -79,16 +81,34 @@ TEST_F(SweepTest, GridIsTheProductOfTheAxesThatApplyToEachModel) {
   EXPECT_EQ(springs, 6);
   EXPECT_EQ(ids.size(), points.size());
   // The same sweep names its runs the same way (that is what makes it resumable).
-  EXPECT_EQ(sweep_grid(scene(), {parse_sweep_axis("model.dt=1/50,1/100")}, {}, "")[1].id,
+  EXPECT_EQ(sweep_grid(scene(), "mesh", {parse_sweep_axis("model.dt=1/50,1/100")}, models, "")[1].id,
+            points[1].id);
+  // Another mesh (or build) names them differently: shards of two meshes never merge.
+  EXPECT_NE(sweep_grid(scene(), "other", {parse_sweep_axis("model.dt=1/50,1/100")}, models, "")[1].id,
             points[1].id);
 }
 
+TEST_F(SweepTest, GridRunsEveryDefaultModelAModelWithoutABlockWithItsDefaults) {
+  std::set<std::string> swept;
+  for (const SweepPoint& point : sweep_grid(scene(), "mesh", {}, {}, "neo_hookean")) {
+    swept.insert(point.model);
+    EXPECT_TRUE(point.settings.empty());
+  }
+  std::set<std::string> expected;
+  for (const std::string& name : builtin_models().default_names()) {
+    expected.insert(name);
+  }
+  EXPECT_EQ(swept, expected);  // shape_matching has no block in the scene and is swept too
+  EXPECT_TRUE(swept.count("shape_matching"));
+}
+
 TEST_F(SweepTest, GridLeavesOutTheReferenceAndRejectsAnAxisForAnotherModel) {
-  for (const SweepPoint& point : sweep_grid(scene(), {}, {}, "mass_spring")) {
+  for (const SweepPoint& point : sweep_grid(scene(), "mesh", {}, {}, "mass_spring")) {
     EXPECT_NE(point.model, "mass_spring");
   }
   try {
-    sweep_grid(scene(), {parse_sweep_axis("shape_matching.clusters=1,2")}, {}, "");
+    sweep_grid(scene(), "mesh", {parse_sweep_axis("shape_matching.clusters=1,2")},
+               {"corotational_fem", "mass_spring"}, "");
     FAIL() << "expected an InputError";
   } catch (const InputError& error) {
     EXPECT_THAT(error.what(), HasSubstr("shape_matching is not among the swept models"));
@@ -104,11 +124,11 @@ TEST(SweepAccuracy, IsZeroOnTheReferenceAndScalesWithTheOffset) {
   reference.volumes = {1.0, 1.0};
   reference.peak_tool_force = 2.0;
   ModelRun run;
-  run.peak_tool_force = 3.0;
+  run.contact.peak_tool_force = 3.0;
   for (std::size_t i = 0; i < 2; ++i) {
     run.snapshots.push_back({reference.times[i], reference.positions[i], 1.0});
   }
-  Accuracy same = accuracy_against(run, reference, rest);
+  Accuracy same = accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest);
   EXPECT_EQ(same.rms_error, 0.0);
   EXPECT_EQ(same.volume_error, 0.0);
   EXPECT_DOUBLE_EQ(*same.peak_force_error, 0.5);
@@ -116,12 +136,12 @@ TEST(SweepAccuracy, IsZeroOnTheReferenceAndScalesWithTheOffset) {
   run.snapshots[0].positions *= 1.1;
   run.snapshots[1].positions *= 1.1;
   run.snapshots[1].volume = 1.2;
-  const Accuracy off = accuracy_against(run, reference, rest);
+  const Accuracy off = accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest);
   EXPECT_NEAR(off.rms_error, 0.1, 1e-12);
   EXPECT_NEAR(off.max_error, 0.1, 1e-12);
   EXPECT_NEAR(off.volume_error, 0.2, 1e-12);
   run.snapshots.pop_back();  // blew up before the last time
-  EXPECT_TRUE(std::isinf(accuracy_against(run, reference, rest).rms_error));
+  EXPECT_TRUE(std::isinf(accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest).rms_error));
 }
 
 SweepRecord record(const std::string& model, double speed, double error, bool stable = true) {

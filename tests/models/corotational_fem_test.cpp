@@ -51,10 +51,10 @@ constexpr double kForceRoundoff = 1e-10;
 constexpr double kDifferenceStep = 1e-7;
 constexpr double kDifferenceAgreement = 1e-6;
 /// "Recovered": RMS distance to the best rigid placement of the rest shape below 1% of the
-/// bounding-box diagonal (the acceptance threshold).
+/// bounding-box diagonal.
 constexpr double kRecovered = 0.01;
-/// Euler-Bernoulli's tip deflection F L^3 / (3 E I) within 5% on the finest cantilever mesh
-/// (the acceptance threshold). Linear tets are too stiff in bending (locking), so the
+/// Euler-Bernoulli's tip deflection F L^3 / (3 E I) within 5% on the finest cantilever mesh.
+/// Linear tets are too stiff in bending (locking), so the
 /// coarse meshes are further off; shear (Timoshenko, ~ +0.8% for 10:1) and the clamp's
 /// restrained Poisson contraction are within the tolerance.
 constexpr double kBeamTheoryAgreement = 0.05;

@@ -44,8 +44,13 @@ TEST(ModelRegistry, AnUnknownNameListsTheKnownOnes) {
 
 TEST(ModelRegistry, RefusesToRegisterANameTwice) {
   ModelRegistry registry;
-  registry.add({"a", "first", {}, nullptr});
-  EXPECT_THROW(registry.add({"a", "second", {}, nullptr}), std::logic_error);
+  ModelInfo first;
+  first.name = "a";
+  first.summary = "first";
+  registry.add(first);
+  ModelInfo second = first;
+  second.summary = "second";
+  EXPECT_THROW(registry.add(second), std::logic_error);
 }
 
 }  // namespace

@@ -51,8 +51,7 @@ constexpr double kRotationAgreement = 1e-9;
 /// bounding-box diagonal: round-off, far below any deformation the model would introduce.
 constexpr double kStepRoundoff = 1e-12;
 /// "Recovered": RMS distance to the best rigid placement of the rest shape, and the relative
-/// volume change, below 1% (of the bounding-box diagonal; of the rest volume): the issue's
-/// acceptance threshold.
+/// volume change, below 1% (of the bounding-box diagonal; of the rest volume).
 constexpr double kRecovered = 0.01;
 
 /// The scenes' step.

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The meshes the project ships (made by `softbench mesh liver`) hold what the foundation issue
-// promises: thesis-sized, closed, valid, and refinements that really are ~4x and ~16x.
+// The meshes the project ships (made by `softbench mesh liver`) are what README.md describes
+// ("The shipped liver"): thesis-sized, closed, valid, and refinements that really are ~4x and ~16x.
 #include "scenes/shipped_data.h"
 
 #include "geometry/mesh_io.h"

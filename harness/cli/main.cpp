@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+// softbench: the command line. Bad input exits 2 with one line naming the file and the problem;
+// any other failure exits 1.
+#include "geometry/input_error.h"
+#include "harness/cli/commands.h"
+#include "harness/provenance.h"
+#include "harness/calibrate/calibration.h"
+
+#include <CLI/CLI.hpp>
+
+#include <exception>
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "softbench: a soft-body physics testbed (mass-spring, corotational FEM, shape "
+      "matching, Bullet) on a liver scene"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", softbench::harness::version_line());
+  using namespace softbench::harness;
+  for (auto add : {add_run_command, add_compare_command, add_sweep_command, add_merge_command,
+                   add_recommend_command, add_stability_command, add_calibrate_command,
+                   add_models_command, add_mesh_command}) {
+    add(app);
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  } catch (const softbench::InputError& error) {
+    std::cerr << "softbench: error: " << error.what() << "\n";
+    return 2;
+  } catch (const std::exception& error) {
+    std::cerr << "softbench: internal error: " << error.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

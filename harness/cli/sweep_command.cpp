@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: MIT
+// `softbench sweep SCENE --param model.key=v1,v2 ...`: speed against error, per setting.
+#include "harness/cli/commands.h"
+#include "harness/cli/sweep_output.h"
+
+#include "geometry/input_error.h"
+#include "harness/sweep/sweep.h"
+#include "scenes/scene.h"
+
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace softbench::harness {
+namespace {
+
+struct SweepArguments {
+  std::string scene;
+  std::vector<std::string> params;
+  std::vector<std::string> models;
+  std::string out_dir;
+  std::string shard;
+  std::string reference_model = ReferenceSettings{}.model;
+  int reference_substeps = ReferenceSettings{}.substeps;
+};
+
+// "i/N"; else a Slurm array task (SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT); else 0/1.
+std::pair<int, int> parse_shard(const std::string& text) {
+  if (text.empty()) {
+    const char* id = std::getenv("SLURM_ARRAY_TASK_ID");
+    const char* count = std::getenv("SLURM_ARRAY_TASK_COUNT");
+    return id != nullptr && count != nullptr ? std::pair(std::atoi(id), std::atoi(count))
+                                             : std::pair(0, 1);
+  }
+  const std::size_t slash = text.find('/');
+  try {
+    if (slash != std::string::npos) {
+      std::size_t used_i = 0;
+      std::size_t used_n = 0;
+      const int i = std::stoi(text.substr(0, slash), &used_i);
+      const int n = std::stoi(text.substr(slash + 1), &used_n);
+      if (used_i == slash && used_n == text.size() - slash - 1 && n >= 1 && i >= 0 && i < n) {
+        return {i, n};
+      }
+    }
+  } catch (const std::exception&) {
+  }
+  throw InputError("--shard " + text + ": expected i/N with 0 <= i < N");
+}
+
+void sweep(const SweepArguments& arguments) {
+  const scenes::Scene scene = scenes::load_scene(arguments.scene);
+  SweepOptions options;
+  for (const std::string& param : arguments.params) {
+    options.axes.push_back(parse_sweep_axis(param));
+  }
+  options.models = arguments.models;
+  std::tie(options.shard, options.shards) = parse_shard(arguments.shard);
+  options.out_dir = arguments.out_dir.empty() ? default_sweep_dir(scene.name)
+                                              : std::filesystem::path(arguments.out_dir);
+  options.reference.model = arguments.reference_model;
+  options.reference.substeps = arguments.reference_substeps;
+  options.progress = &std::cerr;
+  const std::vector<SweepRecord> records = run_sweep(scene, options);
+  write_sweep_table(options.out_dir, scene.name, records);
+  std::cout << records.size() << " runs in " << (options.out_dir / "sweep.csv").string() << "\n";
+  print_budgets(records);
+  plot_sweep(options.out_dir);
+}
+
+}  // namespace
+
+void add_sweep_command(CLI::App& app) {
+  auto arguments = std::make_shared<SweepArguments>();
+  CLI::App* sweep_command = app.add_subcommand(
+      "sweep",
+      "Run a grid of model settings on a scene; time each run and measure its error "
+      "against the converged reference; write sweep.json, sweep.csv and sweep.png");
+  sweep_command->add_option("scene", arguments->scene, "scene file (.json)")->required();
+  sweep_command
+      ->add_option("--param", arguments->params,
+                   "model.key=v1,v2,... (repeatable): a parameter of one model, or model.dt "
+                   "for every model's time step (fractions such as 1/60 allowed)")
+      ->allow_extra_args(false);
+  sweep_command
+      ->add_option("--model", arguments->models,
+                   "model to sweep (repeatable; default: the "
+                   "scene's model blocks)")
+      ->allow_extra_args(false);
+  sweep_command->add_option("--out", arguments->out_dir,
+                            "output folder (default: out/sweep/<scene>)");
+  sweep_command->add_option("--shard", arguments->shard,
+                            "i/N: run only every N-th point starting at i (default: a Slurm array "
+                            "task's, else all); merge the folders with `softbench merge`");
+  sweep_command
+      ->add_option("--reference-model", arguments->reference_model, "the converged reference")
+      ->capture_default_str();
+  sweep_command
+      ->add_option("--reference-substeps", arguments->reference_substeps,
+                   "the reference's dt is the scene's divided by this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  sweep_command->callback([arguments] { sweep(*arguments); });
+
+}
+
+}  // namespace softbench::harness

@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "harness/claim.h"
+#include "harness/run/runner.h"
+#include "scenes/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace softbench::harness {
+
+// The thesis's chapter-3 comparison (section 3.5): the same scenes through every model, with the
+// thesis's figures beside ours and its claims turned into checks with measured evidence.
+
+/// A row of the comparison: a registered model, or a variant of one with some parameters
+/// overridden and its own label.
+struct ModelVariant {
+  std::string label;         ///< as reported, e.g. "corotational_fem(linear)"
+  std::string model;         ///< the registered model that runs
+  nlohmann::json overrides;  ///< merged over the scene's parameter block for `model`
+};
+
+/// The variants compare knows: "corotational_fem(linear)", plain linear FEM (formulation
+/// "linear"), which the thesis's claim about FEM and large deformation needs beside the
+/// corotational FEM.
+const std::vector<ModelVariant>& known_variants();
+
+/// The rows to run for `names` (registered model names or variant labels, in that order).
+/// Empty: every registered model, each known variant right after its base model. Throws
+/// InputError for a name that is neither (listing both kinds).
+std::vector<ModelVariant> resolve_models(const std::vector<std::string>& names);
+
+/// The thesis's speed for a row (FPS on an Intel Core i3-2100 with rendering, section 3.5.1):
+/// mass-spring 335.7, FEM 36.5 (beside both FEM rows: the thesis says only "FEM"), shape
+/// matching 787. Empty for the rows it has no figure for.
+std::optional<double> thesis_steps_per_second(std::string_view label);
+
+/// One scene's runs. ModelRun::model holds the row label (a variant's label, not its model).
+struct SceneComparison {
+  std::string name;
+  nlohmann::json scene;  ///< the effective scene as run (scenes::to_json), mesh override included
+  std::vector<ModelRun> runs;
+};
+
+/// The thresholds that turn the thesis's words into measurements (recovered: below
+/// kRecoveredResidual, as everywhere).
+struct ClaimCriteria {
+  /// Distorted: an inverted (folded) tet at any step, which a viewer sees as a crease or a
+  /// surface turned inside out.
+  int max_inverted_tets = 0;
+  /// Linear FEM's spurious volume growth under rotation: unfit when its largest volume change
+  /// exceeds the corotational FEM's by this factor and by at least `volume_margin`.
+  double volume_ratio = 2.0;
+  double volume_margin = 0.01;  ///< absolute, as a fraction of the rest volume
+};
+
+/// The three chapter-3 claims, checked on every scene: (1) shape matching recovers from every
+/// deformation without distortion; (2) mass-spring may fail to recover from a large deformation;
+/// (3) linear FEM is unfit for large deformation while corotational FEM is fit.
+std::vector<Claim> check_claims(const std::vector<SceneComparison>& scenes,
+                                     const ClaimCriteria& criteria = {});
+
+struct Comparison {
+  std::vector<SceneComparison> scenes;
+  std::vector<Claim> claims;
+  ClaimCriteria criteria;
+  std::string machine;  ///< where ours were measured (CPU model), for the reader
+};
+
+struct CompareOptions {
+  std::vector<std::string> models;  ///< see resolve_models()
+  int warmup_steps = 10;            ///< RunOptions::warmup_steps
+  std::ostream* progress = nullptr;
+  bool live_progress = false;
+};
+
+/// Runs every scene through every row (run_scene, one row at a time) and checks the claims.
+/// Throws InputError for an unknown model name before any model runs, and for a bad parameter
+/// block or mesh when its scene's turn comes.
+Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const CompareOptions& options);
+
+}  // namespace softbench::harness

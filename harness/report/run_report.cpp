@@ -1,0 +1,63 @@
+// SPDX-License-Identifier: MIT
+#include "harness/report/run_report.h"
+
+#include "geometry/atomic_file.h"
+#include "harness/provenance.h"
+#include "harness/report/model_run_json.h"
+
+#include <iomanip>
+#include <sstream>
+
+namespace softbench::harness {
+
+nlohmann::json metrics_json(const scenes::Scene& scene, const std::vector<ModelRun>& runs) {
+  nlohmann::json json;
+  json["provenance"] = to_json(provenance());
+  json["scene"] = scenes::to_json(scene);
+  json["runs"] = nlohmann::json::array();
+  for (const ModelRun& run : runs) {
+    json["runs"].push_back(to_json(run));
+  }
+  return json;
+}
+
+std::string summary_markdown(const scenes::Scene& scene, const std::vector<ModelRun>& runs) {
+  std::ostringstream out;
+  out << "# " << scene.name << "\n\n";
+  if (!scene.description.empty()) {
+    out << scene.description << "\n\n";
+  }
+  out << "dt = " << scene.dt << " s, " << scene.num_steps() << " steps; step times are medians "
+      << "over the steps after warm-up, measured around step() only.\n\n";
+  out << "| model | stable | steps/s | steps/s with collision | step ms (median / p95 / max) | "
+         "iterations | max inverted tets | max volume change | recovery residual | "
+         "time to 1% (s) | max penetration (mm) | peak tool force (N) |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const ModelRun& run : runs) {
+    out << "| " << run.model << " | "
+        << (run.stability.stable
+                ? "yes"
+                : "NO (step " + std::to_string(*run.stability.diverged_at_step) + ": " + run.stability.divergence + ")")
+        << " | " << fixed(run.timing.steps_per_second, 0) << " | " << fixed(run.timing.steps_per_second_with_collision, 0) << " | "
+        << fixed(run.timing.step_ms.median, 3) << " / " << fixed(run.timing.step_ms.p95, 3) << " / "
+        << fixed(run.timing.step_ms.max, 3) << " | " << fixed(run.solver.mean_iterations, 1) << " | "
+        << run.shape.max_inverted_tets << " | " << fixed(100.0 * run.shape.volume_change, 2) << "% | "
+        << (run.recovery.measured ? fixed(100.0 * run.recovery.residual, 2) + "%" : "-") << " | "
+        << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-") << " | "
+        << fixed(1000.0 * run.contact.max_penetration, 2) << " | " << fixed(run.contact.peak_tool_force, 3)
+        << " |\n";
+  }
+  return out.str();
+}
+
+void write_reports(const std::filesystem::path& out_dir,
+                   const scenes::Scene& scene,
+                   const std::vector<ModelRun>& runs) {
+  std::filesystem::create_directories(out_dir);
+  const std::string metrics = metrics_json(scene, runs).dump(2) + "\n";
+  write_file_atomically(out_dir / "metrics.json", [&](std::ostream& out) { out << metrics; });
+  const std::string summary = summary_markdown(scene, runs);
+  write_file_atomically(out_dir / "summary.md", [&](std::ostream& out) { out << summary; });
+}
+
+}  // namespace softbench::harness

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "harness/report/format.h"
+#include "harness/run/runner.h"
+#include "scenes/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace softbench::harness {
+
+/// The whole metrics.json: provenance, the effective scene, then one entry per model run
+/// (model_run_json.h).
+nlohmann::json metrics_json(const scenes::Scene& scene, const std::vector<ModelRun>& runs);
+
+/// A Markdown table a person reads: one row per model.
+std::string summary_markdown(const scenes::Scene& scene, const std::vector<ModelRun>& runs);
+
+/// Writes out_dir/metrics.json and out_dir/summary.md, each atomically (temporary + rename), so
+/// an interrupted run never leaves a half-written file.
+void write_reports(const std::filesystem::path& out_dir,
+                   const scenes::Scene& scene,
+                   const std::vector<ModelRun>& runs);
+
+}  // namespace softbench::harness

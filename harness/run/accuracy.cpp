@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: MIT
+#include "harness/run/accuracy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace softbench::harness {
+namespace {
+
+// The relative errors of `x` against `reference` at one time: RMS and max.
+std::pair<double, double> position_errors(const Eigen::Matrix3Xd& x,
+                                          const Eigen::Matrix3Xd& reference,
+                                          const Eigen::Matrix3Xd& rest) {
+  const Eigen::VectorXd error = (x - reference).colwise().norm();
+  const Eigen::VectorXd moved = (reference - rest).colwise().norm();
+  // A reference that has not moved gives the error relative to a micrometre, not to zero.
+  constexpr double kFloor = 1e-6;
+  const double rms_moved = std::max(std::sqrt(moved.squaredNorm() / moved.size()), kFloor);
+  const double max_moved = std::max(moved.maxCoeff(), kFloor);
+  return {std::sqrt(error.squaredNorm() / error.size()) / rms_moved, error.maxCoeff() / max_moved};
+}
+
+}  // namespace
+
+std::vector<double> comparison_times(const scenes::Scene& scene, int count) {
+  std::vector<double> times;
+  for (int i = 1; i <= count; ++i) {
+    times.push_back(scene.duration * i / count);
+  }
+  return times;
+}
+
+Accuracy accuracy_against(const std::vector<Snapshot>& snapshots,
+                          double peak_tool_force,
+                          const ReferenceRun& reference,
+                          const Eigen::Matrix3Xd& rest) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  Accuracy accuracy;
+  double rms_sum = 0.0;
+  for (std::size_t i = 0; i < reference.times.size(); ++i) {
+    if (i >= snapshots.size()) {  // blew up before this time
+      return {kInfinity, kInfinity, kInfinity, kInfinity};
+    }
+    const auto [rms, max] = position_errors(snapshots[i].positions, reference.positions[i], rest);
+    rms_sum += rms;
+    accuracy.max_error = std::max(accuracy.max_error, max);
+    accuracy.volume_error =
+        std::max(accuracy.volume_error,
+                 std::abs(snapshots[i].volume - reference.volumes[i]) / reference.volumes[i]);
+  }
+  accuracy.rms_error =
+      reference.times.empty() ? 0.0 : rms_sum / static_cast<double>(reference.times.size());
+  if (reference.peak_tool_force > 0.0) {
+    accuracy.peak_force_error =
+        std::abs(peak_tool_force - reference.peak_tool_force) / reference.peak_tool_force;
+  }
+  return accuracy;
+}
+
+}  // namespace softbench::harness

@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: MIT
+#include "harness/run/loading.h"
+
+#include "geometry/mesh_topology.h"
+#include "scenes/instrument_path.h"
+#include "scenes/scene_regions.h"
+
+#include <algorithm>
+
+namespace softbench::harness {
+namespace {
+
+// A contact vertex that ends this far from the instrument has floated away from it: well past
+// the margin the contact keeps, small against the mesh's edges.
+double lost_contact_distance(double margin) {
+  return std::max(5.0 * margin, 1e-3);
+}
+
+}  // namespace
+
+Loading::Loading(const scenes::Scene& scene, const SceneMesh& scene_mesh) : scene_(scene) {
+  const TetMesh& mesh = scene_mesh.body;
+  for (int vertex : scenes::fixed_vertices(scene, mesh)) {
+    fixed_.push_back({vertex, mesh.rest_positions().col(vertex)});
+  }
+  grasped_ = scenes::grasped_vertices(scene, mesh);
+  if (scene.instrument) {
+    collision::InstrumentContactOptions options;
+    options.margin = scene.instrument->contact_margin;
+    contact_ = std::make_unique<collision::InstrumentContact>(
+        mesh.rest_positions(), boundary_triangles(mesh.tets()),
+        *scene_mesh.instrument, options);
+  }
+  const auto vertices = static_cast<std::size_t>(mesh.num_vertices());
+  in_contact_.assign(vertices, false);
+  held_.assign(vertices, 0);
+  lost_.assign(vertices, false);
+  constraints_.reserve(fixed_.size() + grasped_.size());
+}
+
+Loading::~Loading() = default;
+
+bool Loading::grasp_holds(double time) const {
+  if (scene_.grasp) {
+    return time >= scene_.grasp->start && time < scene_.grasp->release;
+  }
+  if (scene_.instrument && scene_.instrument->grasp) {
+    return time >= scene_.instrument->grasp->start && time < scene_.instrument->grasp->release;
+  }
+  return false;
+}
+
+Eigen::Vector3d Loading::tool_origin(double time) const {
+  return scenes::instrument_pose(*scene_.instrument, time).translation();
+}
+
+std::span<const PositionConstraint> Loading::constraints(double start,
+                                                         double dt,
+                                                         const Eigen::Matrix3Xd& positions,
+                                                         const Eigen::Matrix3Xd& velocities,
+                                                         const Eigen::Matrix3Xd& last_forces) {
+  const double end = start + dt;
+  constraints_.assign(fixed_.begin(), fixed_.end());
+  loaded_.clear();
+  const bool holding = grasp_holds(start + 0.5 * dt);
+  if (!holding) {
+    grasp_anchor_.resize(3, 0);
+  } else {
+    const bool closes = grasp_anchor_.cols() == 0;
+    if (closes) {
+      grasp_anchor_.resize(3, static_cast<Eigen::Index>(grasped_.size()));
+    }
+    // The scene's grasp moves the patch by its path's offset; the instrument's carries it
+    // rigidly in the tool's frame.
+    const Eigen::Isometry3d to_tool_then =
+        scene_.instrument ? scenes::instrument_pose(*scene_.instrument, start).inverse()
+                          : Eigen::Isometry3d::Identity();
+    const Eigen::Isometry3d tool_now = scene_.instrument
+                                           ? scenes::instrument_pose(*scene_.instrument, end)
+                                           : Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d offset =
+        scene_.grasp ? scenes::grasp_offset(*scene_.grasp, end) : Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < grasped_.size(); ++i) {
+      const auto column = static_cast<Eigen::Index>(i);
+      if (closes) {
+        grasp_anchor_.col(column) = to_tool_then * positions.col(grasped_[i]);
+      }
+      constraints_.push_back({grasped_[i], tool_now * grasp_anchor_.col(column) + offset});
+      loaded_.push_back(grasped_[i]);
+    }
+  }
+  if (contact_) {
+    // The fixed region and the grasp win over contact.
+    for (const PositionConstraint& constraint : constraints_) {
+      held_[static_cast<std::size_t>(constraint.vertex)] = 1;
+    }
+    const std::size_t held = constraints_.size();
+    const Eigen::Isometry3d pose = scenes::instrument_pose(*scene_.instrument, end);
+    for (const collision::VertexTarget& target :
+         contact_->resolve(pose, positions, velocities, dt, last_forces)) {
+      if (held_[static_cast<std::size_t>(target.vertex)] == 0) {
+        constraints_.push_back({target.vertex, target.target});
+        loaded_.push_back(target.vertex);
+      }
+    }
+    for (std::size_t k = 0; k < held; ++k) {
+      held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;
+    }
+    max_triangle_pairs_ = std::max(max_triangle_pairs_, contact_->report().triangle_pairs);
+  }
+  return constraints_;
+}
+
+void Loading::observe(double end,
+                      const Eigen::Matrix3Xd& positions,
+                      const Eigen::Matrix3Xd& forces) {
+  Eigen::Vector3d on_tissue = Eigen::Vector3d::Zero();
+  for (int vertex : loaded_) {
+    on_tissue += forces.col(vertex);
+  }
+  tool_force_ = on_tissue.norm();
+  if (scene_.grasp) {
+    tool_displacement_ = scenes::grasp_offset(*scene_.grasp, end).norm();
+  }
+  if (!contact_) {
+    return;
+  }
+  const scenes::Instrument& instrument = *scene_.instrument;
+  tool_displacement_ =
+      end <= instrument.start ? 0.0 : (tool_origin(end) - tool_origin(instrument.start)).norm();
+  const Eigen::Isometry3d pose = scenes::instrument_pose(instrument, end);
+  const double penetration = contact_->measure(pose, positions).max_penetration;
+  max_penetration_ = std::max(max_penetration_, penetration);
+  if (end > instrument.start && end <= instrument.release) {
+    max_penetration_pressing_ = std::max(max_penetration_pressing_, penetration);
+  }
+
+  // Floating away: a vertex the instrument pressed that ends well clear of it while the
+  // instrument still presses (a grasping instrument pulls; its neighbours may part from it).
+  const bool pressing = !instrument.grasp && end > instrument.start && end < instrument.release;
+  if (!pressing) {
+    return;
+  }
+  // In contact: held against the instrument at the margin (a vertex a triangle push moved may
+  // lie far from it).
+  for (int vertex : loaded_) {
+    if (contact_->instrument_distance(pose, positions.col(vertex))
+        <= 2.0 * instrument.contact_margin) {
+      in_contact_[static_cast<std::size_t>(vertex)] = true;
+    }
+  }
+  const double lost_distance = lost_contact_distance(instrument.contact_margin);
+  for (std::size_t vertex = 0; vertex < in_contact_.size(); ++vertex) {
+    if (in_contact_[vertex] && !lost_[vertex]
+        && contact_->instrument_distance(pose, positions.col(static_cast<Eigen::Index>(vertex)))
+               > lost_distance) {
+      lost_[vertex] = true;
+    }
+  }
+}
+
+int Loading::lost_contact_vertices() const {
+  return static_cast<int>(std::count(lost_.begin(), lost_.end(), true));
+}
+
+}  // namespace softbench::harness

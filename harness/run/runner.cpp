@@ -1,0 +1,228 @@
+// SPDX-License-Identifier: MIT
+#include "harness/run/runner.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_io.h"
+#include "geometry/mesh_measures.h"
+#include "harness/run/run_monitor.h"
+#include "harness/run/scene_stepper.h"
+#include "models/model_registry.h"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace softbench::harness {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double milliseconds(Clock::time_point from, Clock::time_point to) {
+  return std::chrono::duration<double, std::milli>(to - from).count();
+}
+
+void write_frame(const RunOptions& options,
+                 const std::string& model,
+                 int step,
+                 const TetMesh& mesh,
+                 const SoftBody& body) {
+  const std::filesystem::path dir = options.frames_dir / model;
+  std::filesystem::create_directories(dir);
+  std::ostringstream name;
+  name << "frame_" << std::setw(5) << std::setfill('0') << step << ".vtu";
+  const Eigen::Matrix3Xd displacement = body.positions() - mesh.rest_positions();
+  const VertexField fields[] = {{"displacement", &displacement}, {"velocity", &body.velocities()}};
+  write_vtu(dir / name.str(), MeshData{body.positions(), {}, mesh.tets(), model}, fields);
+}
+
+double steps_per_second(const std::vector<double>& step_ms) {
+  double total_ms = 0.0;
+  for (double ms : step_ms) {
+    total_ms += ms;
+  }
+  return total_ms > 0.0 ? 1000.0 * static_cast<double>(step_ms.size()) / total_ms : 0.0;
+}
+
+/// Accumulates one model's metrics step by step (ModelRun's groups).
+class RunRecorder {
+ public:
+  RunRecorder(const scenes::Scene& scene, const SceneMesh& mesh, ModelRun& run)
+      : mesh_(mesh.body),
+        run_(run),
+        rest_volume_(mesh_volume(mesh.body)),
+        masses_(lumped_masses(mesh.body, scene.material.density)) {
+    const auto planned = static_cast<std::size_t>(run.timing.steps_planned);
+    step_ms_.reserve(planned);
+    step_with_collision_ms_.reserve(planned);
+    run.samples.reserve(planned);
+  }
+
+  void time(double step_ms, double step_with_collision_ms) {
+    step_ms_.push_back(step_ms);
+    step_with_collision_ms_.push_back(step_with_collision_ms);
+  }
+
+  void solver(const StepStats& stats) {
+    total_iterations_ += stats.iterations;
+    run_.solver.factorizations += stats.factorizations;
+    run_.solver.linear_solves += stats.linear_solves;
+    run_.solver.max_constraint_error =
+        std::max(run_.solver.max_constraint_error, stats.max_constraint_error);
+  }
+
+  /// After a step the monitor passed: the state's measures and the tool's.
+  void state(const SoftBody& body, double free_speed, const SceneStepper& stepper, double time) {
+    const Eigen::Matrix3Xd& x = body.positions();
+    StabilityMetrics& stability = run_.stability;
+    stability.max_speed = std::max(stability.max_speed, free_speed);
+    stability.max_kinetic_energy =
+        std::max(stability.max_kinetic_energy, kinetic_energy(masses_, body.velocities()));
+    ShapeMetrics& shape = run_.shape;
+    shape.max_inverted_tets = std::max(shape.max_inverted_tets, count_inverted_tets(mesh_, x));
+    shape.volume_change = std::max(shape.volume_change,
+                                   std::abs(mesh_volume(mesh_, x) - rest_volume_) / rest_volume_);
+    StepSample sample;
+    sample.time = time;
+    sample.tool_displacement = stepper.loading().tool_displacement();
+    sample.tool_force = stepper.loading().tool_force();
+    run_.contact.peak_tool_force = std::max(run_.contact.peak_tool_force, sample.tool_force);
+    if (stepper.have_reference() && stepper.recovery().released()) {
+      sample.recovery_residual = stepper.recovery().residual();
+    }
+    run_.samples.push_back(sample);
+  }
+
+  void finish(const SoftBody& body, const SceneStepper& stepper) {
+    TimingMetrics& timing = run_.timing;
+    timing.step_ms = percentiles(step_ms_);
+    timing.steps_per_second = steps_per_second(step_ms_);
+    timing.step_with_collision_ms = percentiles(step_with_collision_ms_);
+    timing.steps_per_second_with_collision = steps_per_second(step_with_collision_ms_);
+    const Loading& loading = stepper.loading();
+    run_.contact.max_penetration = loading.max_penetration();
+    run_.contact.max_penetration_pressing = loading.max_penetration_pressing();
+    run_.contact.lost_contact_vertices = loading.lost_contact_vertices();
+    run_.contact.max_triangle_pairs = loading.max_triangle_pairs();
+    run_.solver.mean_iterations = timing.steps_run > 0 ? total_iterations_ / timing.steps_run : 0.0;
+    run_.solver.final_reaction_sum = body.constraint_forces().rowwise().sum();
+    run_.shape.final_elastic_energy = body.elastic_energy();
+    const RecoveryTracker& recovery = stepper.recovery();
+    run_.recovery.measured = run_.stability.stable && recovery.released();
+    run_.recovery.residual = recovery.residual();
+    run_.recovery.time_to_one_percent = recovery.time_to_one_percent();
+  }
+
+ private:
+  const TetMesh& mesh_;
+  ModelRun& run_;
+  double rest_volume_;
+  Eigen::VectorXd masses_;
+  std::vector<double> step_ms_;
+  std::vector<double> step_with_collision_ms_;
+  double total_iterations_ = 0.0;
+};
+
+void print_outcome(const RunOptions& options, const ModelRun& run) {
+  if (options.progress == nullptr) {
+    return;
+  }
+  *options.progress << (options.live_progress ? "\r" : "") << run.model << ": "
+                    << run.timing.steps_run << "/" << run.timing.steps_planned << " steps, "
+                    << (run.stability.stable
+                            ? "stable"
+                            : "UNSTABLE at step " + std::to_string(*run.stability.diverged_at_step))
+                    << ", median step " << run.timing.step_ms.median << " ms ("
+                    << run.timing.steps_per_second << " steps/s)\n";
+}
+
+ModelRun run_model(const scenes::Scene& scene,
+                   const SceneMesh& mesh,
+                   const std::string& model_name,
+                   const RunOptions& options) {
+  const ModelInfo& info = builtin_models().at(model_name);
+  std::unique_ptr<SoftBody> body =
+      info.create(mesh.body, scene.material, scene.parameters_for(model_name),
+                  {scene.source.string(), "/models/" + model_name});
+  ModelRun run;
+  run.model = model_name;
+  run.params = body->parameters();
+  run.vertices = mesh.body.num_vertices();
+  run.tets = mesh.body.num_tets();
+  run.timing.steps_planned = scene.num_steps();
+  run.solver.memory_bytes = body->memory_bytes();
+
+  SceneStepper stepper(scene, mesh);
+  RunMonitor monitor(mesh.body, scene.limits, mesh.diagonal());
+  RunRecorder recorder(scene, mesh, run);
+  for (int step = 0; step < run.timing.steps_planned; ++step) {
+    const double start = step * scene.dt;
+    const Clock::time_point before_collision = Clock::now();
+    const StepInput input = stepper.input(step, *body);
+    const Clock::time_point before = Clock::now();
+    const StepStats stats = body->step(scene.dt, input);
+    const Clock::time_point after = Clock::now();
+    if (step >= options.warmup_steps) {
+      recorder.time(milliseconds(before, after), milliseconds(before_collision, after));
+    }
+    run.timing.steps_run = step + 1;
+    recorder.solver(stats);
+    if (!monitor.after_step(step, stats, *body, input.constraints)) {
+      run.stability.stable = false;
+      run.stability.diverged_at_step = monitor.divergence()->step;
+      run.stability.divergence = monitor.divergence()->reason;
+      break;
+    }
+    stepper.observe(step, *body);
+    recorder.state(*body, monitor.free_speed(), stepper, start + scene.dt);
+    // Half a step of slack: a time that rounding puts just past a step's end is that step's.
+    while (run.snapshots.size() < options.snapshot_times.size()
+           && start + 1.5 * scene.dt > options.snapshot_times[run.snapshots.size()]) {
+      run.snapshots.push_back({options.snapshot_times[run.snapshots.size()], body->positions(),
+                               mesh_volume(mesh.body, body->positions())});
+    }
+    if (options.frames_every > 0 && step % options.frames_every == 0) {
+      write_frame(options, model_name, step, mesh.body, *body);
+    }
+    if (options.progress != nullptr && options.live_progress && step % 30 == 0) {
+      *options.progress << "\r" << model_name << ": step " << step + 1 << "/"
+                        << run.timing.steps_planned << std::flush;
+    }
+  }
+  recorder.finish(*body, stepper);
+  print_outcome(options, run);
+  return run;
+}
+
+}  // namespace
+
+std::vector<ModelRun> run_scene(const scenes::Scene& scene,
+                                const SceneMesh& mesh,
+                                const RunOptions& options) {
+  const std::vector<std::string> names =
+      options.models.empty() ? builtin_models().default_names() : options.models;
+  for (const std::string& name : names) {
+    builtin_models().at(name);  // an unknown name fails before any model runs
+  }
+  for (const auto& [name, block] : scene.model_parameters) {
+    // A block for a model this build leaves out is not an error in the scene.
+    if (!builtin_models().contains(name) && !builtin_models().unavailable(name)) {
+      try {
+        builtin_models().at(name);
+      } catch (const InputError& error) {
+        throw InputError(scene.source.string() + ": /models/" + name + ": " + error.what());
+      }
+    }
+  }
+  std::vector<ModelRun> runs;
+  for (const std::string& name : names) {
+    runs.push_back(run_model(scene, mesh, name, options));
+  }
+  return runs;
+}
+
+std::vector<ModelRun> run_scene(const scenes::Scene& scene, const RunOptions& options) {
+  return run_scene(scene, read_scene_mesh(scene), options);
+}
+
+}  // namespace softbench::harness
