@@ -122,12 +122,12 @@ std::array<Eigen::Matrix3Xd, 2> breathing(const Eigen::Matrix3Xd& liver) {
   return {liver, ((liver.colwise() - centroid) * (1.0 + kBreathing / reach)).colwise() + centroid};
 }
 
-// The notes' "soft tissue conforming to the tool" (../shared/notes/collision.md, section 3):
-// liver vertices within band * r of the probe's axis (and within its length) move radially onto
-// radius r (1 +- kConformJitter), the sign alternating with the vertex index, so that the liver's
-// triangles zig-zag across the probe's surface as tissue pressed around an instrument does. The
-// rigid probe alone cannot make more than ~140 pairs with the 1622-triangle surface (its
-// triangles are large: a straight probe crosses few of them), conforming tissue can.
+// Soft tissue conforming to the tool: liver vertices within band * r of the probe's axis (and
+// within its length) move radially onto radius r (1 +- kConformJitter), the sign alternating
+// with the vertex index, so that the liver's triangles zig-zag across the probe's surface as
+// tissue pressed around an instrument does. The rigid probe alone cannot make more than ~140
+// pairs with the 1622-triangle surface (its triangles are large: a straight probe crosses few of
+// them), conforming tissue can.
 Eigen::Matrix3Xd conformed(const Scene& scene, const Eigen::Matrix3Xd& tool, double band) {
   const Eigen::Vector3d lo = tool.rowwise().minCoeff(), hi = tool.rowwise().maxCoeff();
   const Eigen::Vector3d axis = 0.5 * (lo + hi);

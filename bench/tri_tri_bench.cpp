@@ -3,9 +3,10 @@
 // projection method against Moeller 1997, Guigue-Devillers 2003 (plain double), CGAL's exact
 // test (Epick do_intersect, with the oracle's exact reduction of degenerate triangles) and the
 // batched structure-of-arrays path, on the designed-pairs mix (repeated to the count) and on the
-// random pairs of shared/notes/collision.md. One iteration = the whole count; medians over 5
-// repetitions; counters ns_per_pair and ms_per_million. Pair sets are built before timing.
-// BM_TriTriVersus interleaves the projection test with Moeller's for the goal's ratio;
+// random pairs of tests/collision/pair_sets.h (about 30 % intersect). One iteration = the whole
+// count; medians over 5 repetitions; counters ns_per_pair and ms_per_million. Pair sets are
+// built before timing.
+// BM_TriTriVersus interleaves the projection test with Moeller's for their time ratio;
 // BM_TriTriBatchInCache times the batch path as a BVH query runs it: one candidate set in cache.
 #include "bench/thread_cpu_clock.h"
 #include "collision/tri_tri_batch.h"
@@ -114,8 +115,8 @@ void BM_TriTriBatch(benchmark::State& state, int set) {
   time_batch(state, pair_set(set), static_cast<std::size_t>(state.range(0)) * 1000);
 }
 
-// The goal's setting: a BVH query gathers its candidates (every leaf pair's) into one SoA and runs
-// the batch path once over them (collision/bvh_collide.cpp, TriTriMethod::kBatched), on data
+// The setting that counts: a BVH query gathers its candidates (every leaf pair's) into one SoA and
+// runs the batch path once over them (collision/bvh_collide.cpp, TriTriMethod::kBatched), on data
 // that is in cache. Here: one call over the first state.range(0) random pairs, 100 to 2000 (the
 // candidate counts of table 4.2, 0.3-290 KB). On the 1-2 M pair arrays of table 4.1 the same
 // code streams 144 B per pair from memory, which bounds it instead.

@@ -18,11 +18,13 @@ function(softbench_add_test name)
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60)
 endfunction()
 
-# softbench_add_bench(NAME SOURCES... LINK ...): one Google Benchmark executable.
+# softbench_add_bench(NAME SOURCES... LINK ...): one Google Benchmark executable, its JSON
+# context carrying softbench's provenance (bench/bench_context.cpp).
 function(softbench_add_bench name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
-  add_executable(${name} ${ARG_SOURCES})
-  target_link_libraries(${name} PRIVATE ${ARG_LINK} benchmark::benchmark_main softbench::warnings)
+  add_executable(${name} ${ARG_SOURCES} ${PROJECT_SOURCE_DIR}/bench/bench_context.cpp)
+  target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench::harness benchmark::benchmark_main
+                        softbench::warnings)
 endfunction()
 
 # softbench_add_provenance(TARGET): TARGET gets harness/build_revision.h (the git revision,

@@ -9,7 +9,7 @@
 // orient2d on the dominant projection (not the paper's 2D decision tree). The segment is built
 // after the decision from the plane distances on the canonical edges.
 //
-// Plain double determinants, as the peers are measured (shared/notes/collision.md): exact on
+// Plain double determinants, as the peers are measured (bench/tri_tri_bench.cpp): exact on
 // generic input, wrong on part of the shared-vertex and shared-edge pairs where rounding
 // decides; degenerate triangles are outside its contract.
 

@@ -9,9 +9,9 @@
 // as in the paper's tri_tri_intersect_with_isectline.
 //
 // Plain double without the paper's EPSILON snap (its absolute 1e-6 is scale-dependent: false
-// positives for near-parallel and small triangles, shared/notes/collision.md section 0.4). Exact
-// on generic input, not on shared vertices and edges, where rounding decides. Degenerate
-// triangles are outside its contract (their zero normal sends them to the coplanar branch).
+// positives for near-parallel and small triangles). Exact on generic input, not on shared
+// vertices and edges, where rounding decides. Degenerate triangles are outside its contract
+// (their zero normal sends them to the coplanar branch).
 
 #include "collision/tri_tri_result.h"
 

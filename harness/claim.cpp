@@ -65,8 +65,8 @@ Claim claim_from_json(const JsonReader& in) {
 }
 
 std::string claim_markdown(const Claim& claim) {
-  return "- " + verdict_badge(claim.verdict) + " " + claim.claim + "\n  - criterion: "
-         + claim.criterion + "\n  - evidence: " + claim.evidence + "\n";
+  return "- " + verdict_badge(claim.verdict) + " " + claim.claim
+         + "\n  - criterion: " + claim.criterion + "\n  - evidence: " + claim.evidence + "\n";
 }
 
 }  // namespace softbench::harness

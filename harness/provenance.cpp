@@ -63,7 +63,7 @@ const Provenance& provenance() {
 }
 
 nlohmann::json to_json(const Provenance& p) {
-  return {{"softbench", p.version}, {"revision", p.revision}, {"build_type", p.build_type},
+  return {{"version", p.version},   {"revision", p.revision}, {"build_type", p.build_type},
           {"compiler", p.compiler}, {"cpu", p.cpu},           {"threads", p.threads}};
 }
 

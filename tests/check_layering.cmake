@@ -5,7 +5,18 @@ set(forbidden
   "geometry:models/|collision/|scenes/|harness/|meshgen/|tetgen.h"
   "models:collision/|scenes/|harness/|meshgen/|tetgen.h"
   "collision:models/|scenes/|harness/|meshgen/|tetgen.h"
-  "scenes:harness/|meshgen/|tetgen.h")
+  "scenes:harness/|meshgen/|tetgen.h"
+  # Inside the harness: the run core depends on no other part; the parts built on it
+  # (stability, sweep, compare, calibrate) on none of each other; reports on no command; and
+  # nothing but the command line itself includes the command line.
+  "harness/run:harness/stability/|harness/sweep/|harness/compare/|harness/calibrate/|harness/report/|harness/cli/|meshgen/|tetgen.h"
+  "harness/stability:harness/sweep/|harness/compare/|harness/calibrate/|harness/report/|harness/cli/|meshgen/|tetgen.h"
+  "harness/sweep:harness/stability/|harness/compare/|harness/calibrate/|harness/report/|harness/cli/|meshgen/|tetgen.h"
+  "harness/compare:harness/stability/|harness/sweep/|harness/calibrate/|harness/report/|harness/cli/|meshgen/|tetgen.h"
+  "harness/calibrate:harness/stability/|harness/sweep/|harness/compare/|harness/report/|harness/cli/|meshgen/|tetgen.h"
+  "harness/report:harness/cli/|meshgen/|tetgen.h")
+# The files at the harness root are the vocabulary every part shares: they include no part.
+file(GLOB root_files "${SOURCE_DIR}/harness/*.h" "${SOURCE_DIR}/harness/*.cpp")
 set(failures "")
 foreach(rule IN LISTS forbidden)
   string(REPLACE ":" ";" parts "${rule}")
@@ -18,6 +29,12 @@ foreach(rule IN LISTS forbidden)
       list(APPEND failures "${file}: ${includes}")
     endif()
   endforeach()
+endforeach()
+foreach(file IN LISTS root_files)
+  file(STRINGS "${file}" includes REGEX "^#include [\"<]harness/[a-z_]+/")
+  if(includes)
+    list(APPEND failures "${file}: ${includes}")
+  endif()
 endforeach()
 if(failures)
   string(REPLACE ";" "\n" message "${failures}")

@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -81,6 +83,42 @@ inline void expect_reactions_balance_weight_at_rest(SoftBody& body,
     unpinned.col(pin.vertex).setZero();
   }
   EXPECT_TRUE(unpinned.isZero(0.0));  // reactions act only at the pinned vertices
+}
+
+/// Checks that the body's elastic forces at `x` are minus the gradient of its elastic energy,
+/// through the interface alone: held exactly at x from rest, the constraints carry the elastic
+/// force (no inertia, no damping, no gravity), so constraint_forces() = dE/dx; each component is
+/// compared with a central difference of elastic_energy() over positions held the same way.
+/// The largest mismatch must be below `tolerance` times the largest force (the difference step is
+/// 1e-6 of the body's size: truncation and round-off stay below 1e-8 relative).
+inline void expect_forces_match_energy_gradient(SoftBody& body,
+                                                const Eigen::Matrix3Xd& x,
+                                                double tolerance) {
+  const std::vector<PositionConstraint> pins = pin_all(x);
+  place_at_rest(body, x);
+  ASSERT_TRUE(body.step(0.01, no_gravity(pins)).finite);
+  const Eigen::Matrix3Xd gradient = body.constraint_forces();
+  const double largest = gradient.cwiseAbs().maxCoeff();
+  ASSERT_GT(largest, 0.0) << "no elastic force at a deformed state";
+  const double size = (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).norm();
+  const double h = 1e-6 * size;
+  const auto energy_at = [&](const Eigen::Matrix3Xd& y) {
+    place_at_rest(body, y);
+    return body.elastic_energy();
+  };
+  double worst = 0.0;
+  for (Eigen::Index v = 0; v < x.cols(); ++v) {
+    for (int axis = 0; axis < 3; ++axis) {
+      Eigen::Matrix3Xd plus = x;
+      Eigen::Matrix3Xd minus = x;
+      plus(axis, v) += h;
+      minus(axis, v) -= h;
+      const double difference = (energy_at(plus) - energy_at(minus)) / (2.0 * h);
+      worst = std::max(worst, std::abs(difference - gradient(axis, v)));
+    }
+  }
+  EXPECT_LT(worst, tolerance * largest)
+      << "largest force " << largest << " N, largest mismatch " << worst << " N";
 }
 
 }  // namespace softbench::test

@@ -3,8 +3,8 @@
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
-#include "geometry/mesh_validation.h"
 #include "geometry/mesh_measures.h"
+#include "geometry/mesh_validation.h"
 #include "harness/run/run_monitor.h"
 #include "models/model_registry.h"
 #include "scenes/scene_regions.h"

@@ -43,6 +43,8 @@ std::filesystem::path out_dir_or(const std::string& given, const std::filesystem
   return given.empty() ? fallback : std::filesystem::path(given);
 }
 
-bool live_progress() { return ::isatty(STDERR_FILENO) != 0; }
+bool live_progress() {
+  return ::isatty(STDERR_FILENO) != 0;
+}
 
 }  // namespace softbench::harness

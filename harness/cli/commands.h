@@ -7,15 +7,15 @@
 
 namespace softbench::harness {
 
-void add_run_command(CLI::App& app);          ///< softbench run
-void add_models_command(CLI::App& app);       ///< softbench models
-void add_compare_command(CLI::App& app);      ///< softbench compare
-void add_sweep_command(CLI::App& app);        ///< softbench sweep
-void add_merge_command(CLI::App& app);        ///< softbench merge
-void add_recommend_command(CLI::App& app);    ///< softbench recommend
-void add_stability_command(CLI::App& app);    ///< softbench stability
-void add_calibrate_command(CLI::App& app);    ///< softbench calibrate
-void add_mesh_command(CLI::App& app);         ///< softbench mesh info (and liver, tetrahedralize)
+void add_run_command(CLI::App& app);        ///< softbench run
+void add_models_command(CLI::App& app);     ///< softbench models
+void add_compare_command(CLI::App& app);    ///< softbench compare
+void add_sweep_command(CLI::App& app);      ///< softbench sweep
+void add_merge_command(CLI::App& app);      ///< softbench merge
+void add_recommend_command(CLI::App& app);  ///< softbench recommend
+void add_stability_command(CLI::App& app);  ///< softbench stability
+void add_calibrate_command(CLI::App& app);  ///< softbench calibrate
+void add_mesh_command(CLI::App& app);       ///< softbench mesh info (and liver, tetrahedralize)
 void add_mesh_generation_commands(CLI::App& mesh);  ///< softbench mesh liver, mesh tetrahedralize
 
 }  // namespace softbench::harness

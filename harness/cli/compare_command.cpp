@@ -2,7 +2,6 @@
 // `softbench compare [SCENE ...]`: the thesis's chapter-3 table, its claims checked, plots.
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
-
 #include "harness/compare/comparison.h"
 #include "harness/report/comparison_plots.h"
 #include "harness/report/comparison_report.h"

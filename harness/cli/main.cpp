@@ -2,9 +2,9 @@
 // softbench: the command line. Bad input exits 2 with one line naming the file and the problem;
 // any other failure exits 1.
 #include "geometry/input_error.h"
+#include "harness/calibrate/calibration.h"
 #include "harness/cli/commands.h"
 #include "harness/provenance.h"
-#include "harness/calibrate/calibration.h"
 
 #include <CLI/CLI.hpp>
 

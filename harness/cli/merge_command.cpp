@@ -35,7 +35,6 @@ void add_merge_command(CLI::App& app) {
   merge_command->add_option("dirs", *merge_dirs, "sweep output folders")->required();
   merge_command->add_option("--out", *merge_out, "merged output folder")->required();
   merge_command->callback([merge_dirs, merge_out] { merge(*merge_dirs, *merge_out); });
-
 }
 
 }  // namespace softbench::harness

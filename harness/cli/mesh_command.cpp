@@ -1,17 +1,15 @@
 // SPDX-License-Identifier: MIT
 // `softbench mesh info FILE [--json]`, and with mesh generation built, `mesh liver` and
 // `mesh tetrahedralize`.
-#include "harness/cli/commands.h"
-
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
+#include "harness/cli/commands.h"
 #include "harness/report/mesh_info.h"
 
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
-
 
 namespace softbench::harness {
 namespace {

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
-#include "harness/cli/commands.h"
-
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_validation.h"
+#include "harness/cli/commands.h"
 #include "harness/report/mesh_info.h"
 #include "meshgen/instrument_mesh.h"
 #include "meshgen/liver_pipeline.h"

@@ -3,8 +3,8 @@
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
 #include "harness/report/run_report.h"
-#include "harness/run/runner.h"
 #include "harness/run/reference.h"
+#include "harness/run/runner.h"
 
 #include <iostream>
 #include <memory>

@@ -2,10 +2,9 @@
 // `softbench stability SCENE`: the stability map and the torture cases.
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
-
 #include "harness/report/python_plot.h"
-#include "harness/stability/stability.h"
 #include "harness/report/stability_report.h"
+#include "harness/stability/stability.h"
 #include "scenes/scene.h"
 
 #include <filesystem>

@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 // `softbench sweep SCENE --param model.key=v1,v2 ...`: speed against error, per setting.
+#include "geometry/input_error.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/sweep_output.h"
-
-#include "geometry/input_error.h"
 #include "harness/sweep/sweep.h"
 #include "scenes/scene.h"
 
@@ -103,7 +102,6 @@ void add_sweep_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   sweep_command->callback([arguments] { sweep(*arguments); });
-
 }
 
 }  // namespace softbench::harness

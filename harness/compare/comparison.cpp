@@ -37,12 +37,14 @@ const ModelRun* find_run(const SceneComparison& scene, std::string_view label) {
 }
 
 std::string instability(const ModelRun& run) {
-  return "diverged at step " + (run.stability.diverged_at_step ? std::to_string(*run.stability.diverged_at_step) : "?")
+  return "diverged at step "
+         + (run.stability.diverged_at_step ? std::to_string(*run.stability.diverged_at_step) : "?")
          + " (" + run.stability.divergence + ")";
 }
 
 bool recovered(const ModelRun& run) {
-  return run.stability.stable && run.recovery.measured && run.recovery.residual < kRecoveredResidual;
+  return run.stability.stable && run.recovery.measured
+         && run.recovery.residual < kRecoveredResidual;
 }
 
 // "residual 0.31% (below 1% after 0.42 s)" or "no release".
@@ -54,8 +56,9 @@ std::string recovery_evidence(const ModelRun& run) {
     return "nothing released";
   }
   return "residual " + percent(run.recovery.residual)
-         + (run.recovery.time_to_one_percent ? " (below 1% " + seconds(*run.recovery.time_to_one_percent) + " after the release)"
-                             : " (never below 1% for good)");
+         + (run.recovery.time_to_one_percent
+                ? " (below 1% " + seconds(*run.recovery.time_to_one_percent) + " after the release)"
+                : " (never below 1% for good)");
 }
 
 std::string shape_evidence(const ModelRun& run) {
@@ -157,8 +160,7 @@ Claim mass_spring_claim(const std::vector<SceneComparison>& scenes) {
   return check;
 }
 
-Claim linear_fem_claim(const std::vector<SceneComparison>& scenes,
-                       const ClaimCriteria& criteria) {
+Claim linear_fem_claim(const std::vector<SceneComparison>& scenes, const ClaimCriteria& criteria) {
   Claim check;
   check.id = "linear_fem_unfit_corotational_fit";
   check.claim =
@@ -188,11 +190,12 @@ Claim linear_fem_claim(const std::vector<SceneComparison>& scenes,
                        && (!corotational->recovery.measured || recovered(*corotational));
     const bool inflated =
         linear->shape.volume_change > criteria.volume_ratio * corotational->shape.volume_change
-        && linear->shape.volume_change - corotational->shape.volume_change >= criteria.volume_margin;
-    linear_unfit =
-        linear_unfit || !linear->stability.stable
-        || (corotational->stability.stable && linear->shape.max_inverted_tets > corotational->shape.max_inverted_tets)
-        || (linear->recovery.measured && !recovered(*linear)) || inflated;
+        && linear->shape.volume_change - corotational->shape.volume_change
+               >= criteria.volume_margin;
+    linear_unfit = linear_unfit || !linear->stability.stable
+                   || (corotational->stability.stable
+                       && linear->shape.max_inverted_tets > corotational->shape.max_inverted_tets)
+                   || (linear->recovery.measured && !recovered(*linear)) || inflated;
     evidence.push_back(scene.name + ": linear " + recovery_evidence(*linear) + ", "
                        + shape_evidence(*linear) + " vs corotational "
                        + recovery_evidence(*corotational) + ", " + shape_evidence(*corotational));
@@ -262,7 +265,7 @@ std::optional<double> thesis_steps_per_second(std::string_view label) {
 }
 
 std::vector<Claim> check_claims(const std::vector<SceneComparison>& scenes,
-                                     const ClaimCriteria& criteria) {
+                                const ClaimCriteria& criteria) {
   return {shape_matching_claim(scenes, criteria), mass_spring_claim(scenes),
           linear_fem_claim(scenes, criteria)};
 }

@@ -64,7 +64,7 @@ struct ClaimCriteria {
 /// deformation without distortion; (2) mass-spring may fail to recover from a large deformation;
 /// (3) linear FEM is unfit for large deformation while corotational FEM is fit.
 std::vector<Claim> check_claims(const std::vector<SceneComparison>& scenes,
-                                     const ClaimCriteria& criteria = {});
+                                const ClaimCriteria& criteria = {});
 
 struct Comparison {
   std::vector<SceneComparison> scenes;

@@ -48,15 +48,19 @@ void scene_table(std::ostream& out, const SceneComparison& scene) {
   for (const ModelRun& run : scene.runs) {
     const std::optional<double> thesis = thesis_steps_per_second(run.model);
     out << "| " << run.model << " | " << (thesis ? fixed(*thesis, 1) : "-") << " | "
-        << rate(run.timing.steps_per_second) << " | " << rate(run.timing.steps_per_second_with_collision) << " | "
-        << (run.stability.stable
-                ? "yes"
-                : "NO (step " + (run.stability.diverged_at_step ? std::to_string(*run.stability.diverged_at_step) : "?")
-                      + ": " + run.stability.divergence + ")")
+        << rate(run.timing.steps_per_second) << " | "
+        << rate(run.timing.steps_per_second_with_collision) << " | "
+        << (run.stability.stable ? "yes"
+                                 : "NO (step "
+                                       + (run.stability.diverged_at_step
+                                              ? std::to_string(*run.stability.diverged_at_step)
+                                              : "?")
+                                       + ": " + run.stability.divergence + ")")
         << " | " << run.shape.max_inverted_tets << " | "
         << (run.recovery.measured ? fixed(100.0 * run.recovery.residual, 2) + "%" : "-") << " | "
-        << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-") << " | "
-        << fixed(1000.0 * run.contact.max_penetration, 2) << " | " << fixed(run.contact.peak_tool_force, 3) << " | "
+        << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-")
+        << " | " << fixed(1000.0 * run.contact.max_penetration, 2) << " | "
+        << fixed(run.contact.peak_tool_force, 3) << " | "
         << fixed(100.0 * run.shape.volume_change, 2) << "% |\n";
   }
   out << "\n";

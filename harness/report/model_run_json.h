@@ -6,7 +6,7 @@
 // (JSON has neither): the residual before the release, errors of a run that blew up.
 #pragma once
 
-#include "harness/report/format.h"
+#include "harness/format.h"
 #include "harness/run/runner.h"
 #include "models/json_reader.h"
 

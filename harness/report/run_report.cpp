@@ -35,17 +35,19 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
   out << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ModelRun& run : runs) {
     out << "| " << run.model << " | "
-        << (run.stability.stable
-                ? "yes"
-                : "NO (step " + std::to_string(*run.stability.diverged_at_step) + ": " + run.stability.divergence + ")")
-        << " | " << fixed(run.timing.steps_per_second, 0) << " | " << fixed(run.timing.steps_per_second_with_collision, 0) << " | "
+        << (run.stability.stable ? "yes"
+                                 : "NO (step " + std::to_string(*run.stability.diverged_at_step)
+                                       + ": " + run.stability.divergence + ")")
+        << " | " << fixed(run.timing.steps_per_second, 0) << " | "
+        << fixed(run.timing.steps_per_second_with_collision, 0) << " | "
         << fixed(run.timing.step_ms.median, 3) << " / " << fixed(run.timing.step_ms.p95, 3) << " / "
-        << fixed(run.timing.step_ms.max, 3) << " | " << fixed(run.solver.mean_iterations, 1) << " | "
-        << run.shape.max_inverted_tets << " | " << fixed(100.0 * run.shape.volume_change, 2) << "% | "
+        << fixed(run.timing.step_ms.max, 3) << " | " << fixed(run.solver.mean_iterations, 1)
+        << " | " << run.shape.max_inverted_tets << " | "
+        << fixed(100.0 * run.shape.volume_change, 2) << "% | "
         << (run.recovery.measured ? fixed(100.0 * run.recovery.residual, 2) + "%" : "-") << " | "
-        << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-") << " | "
-        << fixed(1000.0 * run.contact.max_penetration, 2) << " | " << fixed(run.contact.peak_tool_force, 3)
-        << " |\n";
+        << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-")
+        << " | " << fixed(1000.0 * run.contact.max_penetration, 2) << " | "
+        << fixed(run.contact.peak_tool_force, 3) << " |\n";
   }
   return out.str();
 }

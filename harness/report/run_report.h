@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
-#include "harness/report/format.h"
+#include "harness/format.h"
 #include "harness/run/runner.h"
 #include "scenes/scene.h"
 

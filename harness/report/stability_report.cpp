@@ -1,9 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/stability_report.h"
 
-#include "harness/provenance.h"
-
 #include "geometry/atomic_file.h"
+#include "harness/provenance.h"
 #include "harness/report/run_report.h"
 
 #include <cmath>
@@ -15,21 +14,23 @@ namespace softbench::harness {
 namespace {
 
 nlohmann::json verdict_json(const RunVerdict& verdict) {
-  return {{"status", to_string(verdict.status)},
-          {"nan", verdict.nan},
-          {"failure", verdict.failure},
-          {"diverged_at_step", verdict.diverged_at_step >= 0 ? nlohmann::json(verdict.diverged_at_step)
+  return {
+      {"status", to_string(verdict.status)},
+      {"nan", verdict.nan},
+      {"failure", verdict.failure},
+      {"diverged_at_step", verdict.diverged_at_step >= 0 ? nlohmann::json(verdict.diverged_at_step)
                                                          : nlohmann::json(nullptr)},
-          {"steps_planned", verdict.steps_planned},
-          {"steps_run", verdict.steps_run},
-          {"wall_seconds", verdict.wall_seconds},
-          {"max_inverted_tets", verdict.max_inverted_tets},
-          {"final_inverted_tets", verdict.final_inverted_tets},
-          {"residual", number_or_null(verdict.residual)},
-          {"settled_after_s", verdict.settled_after ? nlohmann::json(*verdict.settled_after)
-                                                    : nlohmann::json(nullptr)},
-          {"time_to_one_percent_s",
-           verdict.time_to_one_percent ? nlohmann::json(*verdict.time_to_one_percent) : nlohmann::json(nullptr)}};
+      {"steps_planned", verdict.steps_planned},
+      {"steps_run", verdict.steps_run},
+      {"wall_seconds", verdict.wall_seconds},
+      {"max_inverted_tets", verdict.max_inverted_tets},
+      {"final_inverted_tets", verdict.final_inverted_tets},
+      {"residual", number_or_null(verdict.residual)},
+      {"settled_after_s",
+       verdict.settled_after ? nlohmann::json(*verdict.settled_after) : nlohmann::json(nullptr)},
+      {"time_to_one_percent_s", verdict.time_to_one_percent
+                                    ? nlohmann::json(*verdict.time_to_one_percent)
+                                    : nlohmann::json(nullptr)}};
 }
 
 std::string percent(double fraction) {

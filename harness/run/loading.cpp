@@ -28,8 +28,7 @@ Loading::Loading(const scenes::Scene& scene, const SceneMesh& scene_mesh) : scen
     collision::InstrumentContactOptions options;
     options.margin = scene.instrument->contact_margin;
     contact_ = std::make_unique<collision::InstrumentContact>(
-        mesh.rest_positions(), boundary_triangles(mesh.tets()),
-        *scene_mesh.instrument, options);
+        mesh.rest_positions(), boundary_triangles(mesh.tets()), *scene_mesh.instrument, options);
   }
   const auto vertices = static_cast<std::size_t>(mesh.num_vertices());
   in_contact_.assign(vertices, false);

@@ -6,13 +6,12 @@
 
 namespace softbench::harness {
 
-RunMonitor::RunMonitor(const TetMesh& mesh,
-                       const scenes::StabilityLimits& limits,
-                       double diagonal)
+RunMonitor::RunMonitor(const TetMesh& mesh, const scenes::StabilityLimits& limits, double diagonal)
     : mesh_(mesh),
       limits_(limits),
       diagonal_(diagonal),
-      held_(static_cast<std::size_t>(mesh.num_vertices()), 0) {}
+      held_(static_cast<std::size_t>(mesh.num_vertices()), 0) {
+}
 
 bool RunMonitor::after_step(int step,
                             const StepStats& stats,

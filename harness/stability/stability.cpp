@@ -41,8 +41,8 @@ std::string verdict_line(const RunVerdict& verdict) {
           : verdict.status == RunStatus::kUnstable ? "UNSTABLE (" + verdict.failure + ")"
                                                    : "TIMED OUT (" + verdict.failure + ")");
   if (std::isfinite(verdict.residual)) {
-    out << ", " << (verdict.recovered() ? "recovered" : "NOT recovered")
-        << " (residual " << std::setprecision(3) << 100.0 * verdict.residual << "%)";
+    out << ", " << (verdict.recovered() ? "recovered" : "NOT recovered") << " (residual "
+        << std::setprecision(3) << 100.0 * verdict.residual << "%)";
   }
   out << ", max inverted tets " << verdict.max_inverted_tets << ", " << std::fixed
       << std::setprecision(1) << verdict.wall_seconds << " s";
@@ -307,8 +307,7 @@ ModelStability model_stability(const scenes::Scene& scene,
     if (progress != nullptr) {
       const TortureResult& torture = result.torture.back();
       *progress << model << ": " << torture_name(which) << ": "
-                << (torture.run ? verdict_line(torture.verdict)
-                                : "not run (" + torture.note + ")")
+                << (torture.run ? verdict_line(torture.verdict) : "not run (" + torture.note + ")")
                 << "\n";
     }
   }

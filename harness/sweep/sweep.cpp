@@ -3,9 +3,8 @@
 
 #include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
+#include "harness/format.h"
 #include "harness/provenance.h"
-#include "harness/report/python_plot.h"
-#include "harness/report/model_run_json.h"
 #include "models/json_reader.h"
 #include "models/model_registry.h"
 
@@ -83,7 +82,8 @@ SweepRecord run_point(const scenes::Scene& scene,
   SweepRecord record;
   record.point = point;
   record.stable = run.stability.stable;
-  record.steps_per_second = scene.instrument ? run.timing.steps_per_second_with_collision : run.timing.steps_per_second;
+  record.steps_per_second =
+      scene.instrument ? run.timing.steps_per_second_with_collision : run.timing.steps_per_second;
   record.accuracy = accuracy_against(run.snapshots, run.contact.peak_tool_force, reference,
                                      mesh.body.rest_positions());
   record.provenance = to_json(provenance());

@@ -5,8 +5,8 @@
 // split across machines (--shard i/N) and merged.
 #pragma once
 
-#include "harness/run/reference.h"
 #include "harness/run/accuracy.h"
+#include "harness/run/reference.h"
 #include "harness/run/runner.h"
 #include "scenes/scene.h"
 

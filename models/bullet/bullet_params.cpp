@@ -170,8 +170,9 @@ ModelInfo bullet_softbody_info() {
     validate_material(material, source.file + ": /material");
     return bullet::make_softbody_body(mesh, material, parsed);
   };
-  info.stiffness_axis = {"stiffness", false, nlohmann::json::object(),
-                         "kLST (link stiffness, no unit); btSoftBody's links ignore Young's modulus"};
+  info.stiffness_axis = {
+      "stiffness", false, nlohmann::json::object(),
+      "kLST (link stiffness, no unit); btSoftBody's links ignore Young's modulus"};
   // kDP scales velocities, which are zero at rest: the equilibrium does not depend on it.
   info.settling_damping = {{"damping", 0.05}};  // per step
   return info;

@@ -80,6 +80,7 @@ TEST(TriTriPeers, SegmentsLieOnBothTrianglesForGenericPairs) {
 
 TEST(TriTriPeers, ReportDisagreementsOnDesignedPairsAndNearDegenerateFamilies) {
   for (const Peer& peer : kPeers) {
+    std::size_t family_disagreements = 0;
     int wrong = 0;
     std::string labels;
     int proper = 0;
@@ -95,6 +96,9 @@ TEST(TriTriPeers, ReportDisagreementsOnDesignedPairsAndNearDegenerateFamilies) {
     }
     std::cout << "[ designed ] " << peer.name << ": wrong on " << wrong << " of " << proper
               << labels << "\n";
+    // Every designed pair that is not degenerate is clear of round-off: a plain-double method
+    // must get each one right.
+    EXPECT_EQ(wrong, 0) << peer.name << labels;
     RecordProperty(std::string(peer.name) + "_designed_wrong", wrong);
     for (std::size_t f = 0; f < families().size(); ++f) {
       const Disagreement d =
@@ -103,11 +107,16 @@ TEST(TriTriPeers, ReportDisagreementsOnDesignedPairsAndNearDegenerateFamilies) {
           100.0 * static_cast<double>(d.total()) / static_cast<double>(families()[f].pairs.size());
       std::cout << "[ family   ] " << peer.name << " / " << families()[f].name << ": " << rate
                 << " % disagree (FP " << d.false_positives << ", FN " << d.false_negatives << ")\n";
+      // On pairs built to sit on round-off, a plain-double method errs on some (up to 19% for
+      // Moeller's where an edge lies in the other plane), but it is still a triangle test: it
+      // answers most of them right.
+      constexpr double kMostDisagreement = 25.0;  // %
+      EXPECT_LT(rate, kMostDisagreement) << peer.name << " / " << families()[f].name;
+      family_disagreements += d.total();
     }
+    // And the reason the exact predicates exist: on these families plain doubles do err.
+    EXPECT_GT(family_disagreements, 0U) << peer.name;
   }
-  // The one property a plain-double method must still have on these pairs: it does not crash
-  // and answers something for every pair, which the loops above exercised.
-  SUCCEED();
 }
 
 }  // namespace

@@ -237,14 +237,6 @@ TEST(ResolveModels, KeepsTheRequestedOrderAndRejectsAnUnknownName) {
   }
 }
 
-TEST(ThesisFigures, AreTheChapterThreeFramesPerSecond) {
-  EXPECT_EQ(thesis_steps_per_second("mass_spring"), 335.7);
-  EXPECT_EQ(thesis_steps_per_second("corotational_fem"), 36.5);
-  EXPECT_EQ(thesis_steps_per_second("corotational_fem(linear)"), 36.5);
-  EXPECT_EQ(thesis_steps_per_second("shape_matching"), 787.0);
-  EXPECT_FALSE(thesis_steps_per_second("bullet_softbody").has_value());
-}
-
 // --- compare.json and compare.md --------------------------------------------------------------
 
 Comparison sample_comparison() {

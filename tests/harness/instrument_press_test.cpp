@@ -99,7 +99,8 @@ TEST_P(PhysicalModelPress, NeitherPassesThroughNorLetsGoAndTheTissueRecovers) {
       continue;
     }
     ++pressing_steps;
-    EXPECT_GE(sample.tool_force, previous - 0.02 * run.contact.peak_tool_force) << "t = " << sample.time;
+    EXPECT_GE(sample.tool_force, previous - 0.02 * run.contact.peak_tool_force)
+        << "t = " << sample.time;
     previous = std::max(previous, sample.tool_force);
   }
   EXPECT_GT(pressing_steps, 30);

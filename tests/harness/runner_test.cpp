@@ -127,7 +127,7 @@ TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
   EXPECT_TRUE(run["recovery"].contains("residual"));
   EXPECT_TRUE(run["recovery"].contains("time_to_one_percent_s"));
   EXPECT_TRUE(metrics["scene"].contains("material"));
-  for (const char* key : {"softbench", "revision", "build_type", "compiler", "cpu", "threads"}) {
+  for (const char* key : {"version", "revision", "build_type", "compiler", "cpu", "threads"}) {
     EXPECT_TRUE(metrics["provenance"].contains(key)) << key;
   }
   EXPECT_TRUE(std::filesystem::exists(dir_.path() / "out" / "summary.md"));

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 #include "harness/sweep/sweep.h"
-#include "models/model_registry.h"
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "harness/sweep/recommend.h"
+#include "models/model_registry.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
 
@@ -81,11 +81,13 @@ TEST_F(SweepTest, GridIsTheProductOfTheAxesThatApplyToEachModel) {
   EXPECT_EQ(springs, 6);
   EXPECT_EQ(ids.size(), points.size());
   // The same sweep names its runs the same way (that is what makes it resumable).
-  EXPECT_EQ(sweep_grid(scene(), "mesh", {parse_sweep_axis("model.dt=1/50,1/100")}, models, "")[1].id,
-            points[1].id);
+  EXPECT_EQ(
+      sweep_grid(scene(), "mesh", {parse_sweep_axis("model.dt=1/50,1/100")}, models, "")[1].id,
+      points[1].id);
   // Another mesh (or build) names them differently: shards of two meshes never merge.
-  EXPECT_NE(sweep_grid(scene(), "other", {parse_sweep_axis("model.dt=1/50,1/100")}, models, "")[1].id,
-            points[1].id);
+  EXPECT_NE(
+      sweep_grid(scene(), "other", {parse_sweep_axis("model.dt=1/50,1/100")}, models, "")[1].id,
+      points[1].id);
 }
 
 TEST_F(SweepTest, GridRunsEveryDefaultModelAModelWithoutABlockWithItsDefaults) {
@@ -136,12 +138,14 @@ TEST(SweepAccuracy, IsZeroOnTheReferenceAndScalesWithTheOffset) {
   run.snapshots[0].positions *= 1.1;
   run.snapshots[1].positions *= 1.1;
   run.snapshots[1].volume = 1.2;
-  const Accuracy off = accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest);
+  const Accuracy off =
+      accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest);
   EXPECT_NEAR(off.rms_error, 0.1, 1e-12);
   EXPECT_NEAR(off.max_error, 0.1, 1e-12);
   EXPECT_NEAR(off.volume_error, 0.2, 1e-12);
   run.snapshots.pop_back();  // blew up before the last time
-  EXPECT_TRUE(std::isinf(accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest).rms_error));
+  EXPECT_TRUE(std::isinf(
+      accuracy_against(run.snapshots, run.contact.peak_tool_force, reference, rest).rms_error));
 }
 
 SweepRecord record(const std::string& model, double speed, double error, bool stable = true) {

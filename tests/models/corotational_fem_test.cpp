@@ -595,5 +595,21 @@ TEST(CorotationalFem, RejectsABadParameterNamingItsKey) {
   EXPECT_THROW(make_corotational_fem(liver_like_box(), kMaterial, negative), InputError);
 }
 
+TEST(CorotationalFem, ForcesAreTheExactGradientOfTheEnergyWithSvdRotations) {
+  // The contract suite checks every model's default forces against its energy; the default
+  // warm-started quaternion rotations converge over steps, the SVD rotations are exact, and so
+  // must the gradient be: to the central difference's truncation (1e-7 relative).
+  const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.12, 0.08, 0.08));
+  CorotationalFemParams params;
+  params.rotation = CorotationalFemParams::Rotation::kSvd;
+  const auto body = make_corotational_fem(mesh, Material{3000.0, 0.3, 1060.0}, params);
+  Eigen::Matrix3Xd x = mesh.rest_positions();
+  for (Eigen::Index v = 0; v < x.cols(); ++v) {
+    const Eigen::Vector3d p = x.col(v);
+    x.col(v) += Eigen::Vector3d(0.1 * p.y() + 0.05 * p.z(), p.x() * p.z(), -0.06 * p.x());
+  }
+  test::expect_forces_match_energy_gradient(*body, x, 1e-7);
+}
+
 }  // namespace
 }  // namespace softbench

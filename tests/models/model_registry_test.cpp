@@ -2,16 +2,25 @@
 #include "models/model_registry.h"
 
 #include "geometry/input_error.h"
+#include "geometry/mesh_validation.h"
+#include "tests/test_meshes.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
+
 namespace softbench {
 namespace {
 
-TEST(ModelRegistry, ListsTheBuiltinModelsSorted) {
+bool documents(const ModelInfo& info, const std::string& key) {
+  return std::any_of(info.parameters.begin(), info.parameters.end(),
+                     [&](const ParameterDoc& doc) { return doc.name == key; });
+}
+
+TEST(ModelRegistry, EveryEntryDeclaresWhatTheHarnessNeeds) {
   const std::vector<std::string> names = builtin_models().names();
-  EXPECT_TRUE(std::is_sorted(names.begin(), names.end()));
   EXPECT_THAT(names, ::testing::Contains("mass_spring"));
   for (const std::string& name : names) {
     const ModelInfo& info = builtin_models().at(name);
@@ -21,6 +30,24 @@ TEST(ModelRegistry, ListsTheBuiltinModelsSorted) {
     for (const ParameterDoc& doc : info.parameters) {
       EXPECT_FALSE(doc.description.empty()) << name << "." << doc.name;
     }
+    // The stability map varies Young's modulus, or a parameter the model documents.
+    const StiffnessAxisSpec& axis = info.stiffness_axis;
+    if (axis.material) {
+      EXPECT_EQ(axis.parameter, "young_modulus") << name;
+    } else {
+      EXPECT_TRUE(documents(info, axis.parameter)) << name << ": axis " << axis.parameter;
+    }
+    EXPECT_FALSE(axis.note.empty()) << name;
+    for (const auto& [key, value] : axis.fixed_params.items()) {
+      EXPECT_TRUE(documents(info, key)) << name << ": fixed " << key;
+    }
+    // Settling damping names damping parameters the model has, with values it accepts.
+    for (const auto& [key, value] : info.settling_damping.items()) {
+      EXPECT_TRUE(documents(info, key)) << name << ": settling " << key;
+    }
+    EXPECT_NO_THROW(info.create(make_tet_mesh(test::box_tets(1, 1, 1, 0.1, 0.1, 0.1)), Material{},
+                                info.settling_damping, ParamSource{}))
+        << name;
   }
 }
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-#include "harness/report/format.h"
+#include "harness/format.h"
 
 #include <cmath>
 #include <iomanip>
