@@ -2,6 +2,7 @@
 // `softbench calibrate SCENE --model bullet_softbody [--tolerance 0.02]`.
 #include "geometry/input_error.h"
 #include "harness/calibrate/calibration.h"
+#include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
 #include "scenes/scene.h"
 
@@ -22,7 +23,7 @@ void add_calibrate_command(CLI::App& app) {
       "calibrate",
       "Fit bullet_softbody's unitless stiffness so its static sag under the scene's gravity "
       "matches the corotational FEM's at the scene's dt; print the block to paste");
-  command->add_option("scene", arguments->scene, "scene file (.json)")->required();
+  add_scene_argument(*command, arguments->scene);
   command->add_option("--model", arguments->model, "the model to calibrate (bullet_softbody)");
   command->add_option("--tolerance", arguments->tolerance, "relative sag mismatch accepted")
       ->check(CLI::Range(1e-4, 0.5));

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `softbench recommend SCENE [--sweep DIR]`: the cheapest model meeting the scene's requirements.
 #include "geometry/input_error.h"
+#include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/sweep_output.h"
 #include "harness/sweep/recommend.h"
@@ -20,8 +21,7 @@ void recommend_for(const std::string& scene_file, const std::string& sweep_dir) 
     throw InputError(scene_file + ": /requirements: missing (say what the scene needs: "
                      "steps_per_second, accuracy, outputs)");
   }
-  const std::filesystem::path dir =
-      sweep_dir.empty() ? default_sweep_dir(scene.name) : std::filesystem::path(sweep_dir);
+  const std::filesystem::path dir = out_dir_or(sweep_dir, default_sweep_dir(scene.name));
   const Recommendation result = recommend(*scene.requirements, read_sweep_runs({dir}));
   std::cout << result.explanation;
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // `softbench sweep SCENE --param model.key=v1,v2 ...`: speed against error, per setting.
 #include "geometry/input_error.h"
+#include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/sweep_output.h"
 #include "harness/sweep/sweep.h"
@@ -57,8 +58,7 @@ void sweep(const SweepArguments& arguments) {
   }
   options.models = arguments.models;
   std::tie(options.shard, options.shards) = parse_shard(arguments.shard);
-  options.out_dir = arguments.out_dir.empty() ? default_sweep_dir(scene.name)
-                                              : std::filesystem::path(arguments.out_dir);
+  options.out_dir = out_dir_or(arguments.out_dir, default_sweep_dir(scene.name));
   options.reference.model = arguments.reference_model;
   options.reference.substeps = arguments.reference_substeps;
   options.progress = &std::cerr;
@@ -77,19 +77,15 @@ void add_sweep_command(CLI::App& app) {
       "sweep",
       "Run a grid of model settings on a scene; time each run and measure its error "
       "against the converged reference; write sweep.json, sweep.csv and sweep.png");
-  sweep_command->add_option("scene", arguments->scene, "scene file (.json)")->required();
+  add_scene_argument(*sweep_command, arguments->scene);
   sweep_command
       ->add_option("--param", arguments->params,
                    "model.key=v1,v2,... (repeatable): a parameter of one model, or model.dt "
                    "for every model's time step (fractions such as 1/60 allowed)")
       ->allow_extra_args(false);
-  sweep_command
-      ->add_option("--model", arguments->models,
-                   "model to sweep (repeatable; default: the "
-                   "scene's model blocks)")
-      ->allow_extra_args(false);
-  sweep_command->add_option("--out", arguments->out_dir,
-                            "output folder (default: out/sweep/<scene>)");
+  add_model_option(*sweep_command, arguments->models,
+                   "every model but the reference, with the scene's block or its defaults");
+  add_out_option(*sweep_command, arguments->out_dir, "out/sweep/<scene>");
   sweep_command->add_option("--shard", arguments->shard,
                             "i/N: run only every N-th point starting at i (default: a Slurm array "
                             "task's, else all); merge the folders with `softbench merge`");
