@@ -14,8 +14,11 @@ struct TetrahedralizeOptions {
   /// Upper bound on a tet's circumradius-to-shortest-edge ratio (TetGen -q); >= 1.1. Smaller:
   /// better-shaped tets (stiffness matrices better conditioned) but more Steiner points.
   double radius_edge_ratio = 1.5;
-  /// Lower bound on dihedral angles, degrees (TetGen -q .../angle); 0 keeps TetGen's default.
-  /// The radius-edge bound alone lets slivers through (min dihedral ~3 deg on the liver).
+  /// Target lower bound on dihedral angles, degrees (TetGen -q<ratio>/<angle>); 0 keeps TetGen's
+  /// default (none). The radius-edge bound alone lets slivers through (min dihedral ~3 deg on the
+  /// liver). A target, not a guarantee: TetGen splits the tets below it but may leave some (it
+  /// rejects split points that encroach on the preserved surface; a tight ratio competes with
+  /// it), so callers measure the result (`mesh tetrahedralize` warns when it falls short).
   double min_dihedral_deg = 12.0;
   /// Keep the input surface triangles as they are (TetGen -Y): the simulation's surface then is
   /// exactly the given one, at the price of less freedom for quality near the boundary.

@@ -62,6 +62,13 @@ class SoftBody {
 
   virtual const Eigen::Matrix3Xd& positions() const = 0;   ///< 3 x #V, m, TetMesh vertex order
   virtual const Eigen::Matrix3Xd& velocities() const = 0;  ///< 3 x #V, m/s
+  /// Replaces every vertex's velocity (3 x #V, m/s, finite; e.g. a body's initial motion) and
+  /// keeps the positions; velocities() returns them until the next step. The next step starts
+  /// from them as from the velocities a step left; its exact constraints still set the velocity
+  /// of the vertices they hold. State derived from the velocities is updated with them;
+  /// constraint_forces() still reports the last step. Throws std::invalid_argument for another
+  /// shape or a NaN/Inf (check_velocities).
+  virtual void set_velocities(const Eigen::Matrix3Xd& velocities) = 0;
 
   /// N (3 x #V): the force each constraint of the last step exerted on its vertex; zero at
   /// unconstrained vertices. At static equilibrium they balance the external loads.
@@ -73,6 +80,9 @@ class SoftBody {
 
  protected:
   SoftBody() = default;
+  /// set_velocities()'s precondition: throws std::invalid_argument unless `velocities` is
+  /// 3 x positions().cols() and finite.
+  void check_velocities(const Eigen::Matrix3Xd& velocities) const;
 };
 
 }  // namespace softbench

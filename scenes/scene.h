@@ -34,11 +34,23 @@ struct Plane {
 };
 
 /// The vertices held in place for the whole scene: the union of an explicit list, a box and a
-/// plane band (any of them may be absent; at least one must select something).
+/// plane band (any of them may be absent). A region that selects nothing, or none at all, is a
+/// free body.
 struct FixedRegion {
   std::vector<int> vertices;
   std::optional<Box> box;
   std::optional<Plane> plane;
+};
+
+/// The body's velocity at t = 0, a rigid motion of its rest shape: vertex i (at rest position
+/// x_i) starts at v_i = linear + angular x (x_i - center). Vertices held by the fixed region
+/// start at rest.
+struct InitialVelocity {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();   ///< m/s
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();  ///< rad/s
+  /// m; absent: the body's centre of mass at rest (known only with the mesh:
+  /// scenes::initial_velocities).
+  std::optional<Eigen::Vector3d> center;
 };
 
 /// Gravity, switched off at `off_at` (the liver_gravity scene's "release").
@@ -130,6 +142,7 @@ struct Scene {
   double dt = 1.0 / 60.0;  ///< s
   double duration = 1.0;   ///< s
   FixedRegion fixed;
+  std::optional<InitialVelocity> initial_velocity;  ///< absent: the body starts at rest
   std::optional<Grasp> grasp;
   std::optional<Instrument> instrument;
   StabilityLimits limits;

@@ -149,13 +149,14 @@ Plane read_plane(const JsonReader& in) {
   return plane;
 }
 
+// Absent, or selecting nothing: a free body.
 FixedRegion read_fixed(const JsonReader& root) {
+  FixedRegion fixed;
+  if (!root.has("fixed")) {
+    return fixed;
+  }
   const JsonReader in = root.object("fixed");
   allow_only(in, {"vertices", "box", "plane"});
-  if (!in.has("vertices") && !in.has("box") && !in.has("plane")) {
-    root.fail_expected("fixed", "at least one of \"vertices\", \"box\", \"plane\"");
-  }
-  FixedRegion fixed;
   if (in.has("vertices")) {
     fixed.vertices = in.integers("vertices", 0, std::numeric_limits<int>::max());
   }
@@ -166,6 +167,21 @@ FixedRegion read_fixed(const JsonReader& root) {
     fixed.plane = read_plane(in.object("plane"));
   }
   return fixed;
+}
+
+InitialVelocity read_initial_velocity(const JsonReader& root) {
+  const JsonReader in = root.object("initial_velocity");
+  allow_only(in, {"linear", "angular", "center"});
+  if (!in.has("linear") && !in.has("angular")) {
+    root.fail_expected("initial_velocity", "at least one of \"linear\", \"angular\"");
+  }
+  InitialVelocity velocity;
+  velocity.linear = in.vector3_or("linear", velocity.linear);
+  velocity.angular = in.vector3_or("angular", velocity.angular);
+  if (in.has("center")) {
+    velocity.center = in.vector3("center");
+  }
+  return velocity;
 }
 
 Grasp read_grasp(const JsonReader& root) {
@@ -383,8 +399,8 @@ Scene load_scene(const std::filesystem::path& path) {
 
 Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& source) {
   const JsonReader root(json, source.string());
-  allow_only(root, {"name", "description", "mesh", "material", "gravity", "time", "fixed", "grasp",
-                    "instrument", "limits", "requirements", "models"});
+  allow_only(root, {"name", "description", "mesh", "material", "gravity", "time", "fixed",
+                    "initial_velocity", "grasp", "instrument", "limits", "requirements", "models"});
   const fs::path folder = source.parent_path();
   Scene scene;
   scene.source = source;
@@ -398,6 +414,9 @@ Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& sourc
   scene.gravity = read_gravity(root);
   read_time(root, scene);
   scene.fixed = read_fixed(root);
+  if (root.has("initial_velocity")) {
+    scene.initial_velocity = read_initial_velocity(root);
+  }
   if (root.has("grasp")) {
     scene.grasp = read_grasp(root);
   }
@@ -442,6 +461,14 @@ nlohmann::json to_json(const Scene& scene) {
                       {"tolerance", scene.fixed.plane->tolerance}};
   }
   json["fixed"] = fixed;
+  // Absent without an initial velocity, so the echo of a scene without one is what it was.
+  if (scene.initial_velocity) {
+    json["initial_velocity"] = {{"linear", vector_json(scene.initial_velocity->linear)},
+                                {"angular", vector_json(scene.initial_velocity->angular)}};
+    if (scene.initial_velocity->center) {
+      json["initial_velocity"]["center"] = vector_json(*scene.initial_velocity->center);
+    }
+  }
 
   if (scene.grasp) {
     const Grasp& grasp = *scene.grasp;

@@ -53,13 +53,49 @@ std::vector<int> fixed_vertices(const Scene& scene, const TetMesh& mesh) {
   }
   std::sort(selected.begin(), selected.end());
   selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
+  return selected;
+}
+
+std::vector<int> required_fixed_vertices(const Scene& scene,
+                                         const TetMesh& mesh,
+                                         const std::string& command,
+                                         const std::string& reason) {
+  std::vector<int> selected = fixed_vertices(scene, mesh);
   if (selected.empty()) {
-    const Eigen::Matrix<double, 3, 2> bounds = bounding_box(rest);
-    throw InputError(scene.source.string() + ": /fixed: selects no vertex of " + scene.mesh.string()
-                     + " (its vertices span " + format_vector(bounds.col(0)) + " to "
-                     + format_vector(bounds.col(1)) + ")");
+    const FixedRegion& fixed = scene.fixed;
+    std::string what = "absent (a free body)";
+    if (!fixed.vertices.empty() || fixed.box || fixed.plane) {
+      // Coordinates in millimetres on a mesh in metres are the usual cause: show the span.
+      const Eigen::Matrix<double, 3, 2> bounds = bounding_box(mesh.rest_positions());
+      what = "selects no vertex of " + scene.mesh.string() + " (its vertices span "
+             + format_vector(bounds.col(0)) + " to " + format_vector(bounds.col(1)) + ")";
+    }
+    throw InputError(scene.source.string() + ": /fixed: " + what + "; " + command
+                     + " needs a fixed region: " + reason);
   }
   return selected;
+}
+
+Eigen::Vector3d rest_centre_of_mass(const TetMesh& mesh) {
+  const Eigen::VectorXd masses = lumped_masses(mesh, 1.0);
+  return mesh.rest_positions() * masses / masses.sum();
+}
+
+Eigen::Matrix3Xd initial_velocities(const Scene& scene, const TetMesh& mesh) {
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  Eigen::Matrix3Xd velocities = Eigen::Matrix3Xd::Zero(3, rest.cols());
+  if (!scene.initial_velocity) {
+    return velocities;
+  }
+  const InitialVelocity& motion = *scene.initial_velocity;
+  const Eigen::Vector3d center = motion.center ? *motion.center : rest_centre_of_mass(mesh);
+  for (Eigen::Index v = 0; v < rest.cols(); ++v) {
+    velocities.col(v) = motion.linear + motion.angular.cross(rest.col(v) - center);
+  }
+  for (const int vertex : fixed_vertices(scene, mesh)) {
+    velocities.col(vertex).setZero();  // held at rest for the whole scene
+  }
+  return velocities;
 }
 
 std::vector<int> grasped_vertices(const Scene& scene, const TetMesh& mesh) {

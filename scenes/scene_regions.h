@@ -11,9 +11,24 @@
 
 namespace softbench::scenes {
 
-/// The fixed vertices of `scene` on `mesh`, sorted and unique. Throws InputError naming the
-/// scene file when an index is out of range or the region selects no vertex.
+/// The fixed vertices of `scene` on `mesh`, sorted and unique; empty for a free body (no fixed
+/// region, or one that selects nothing). Throws InputError naming the scene file when an index
+/// is out of range.
 std::vector<int> fixed_vertices(const Scene& scene, const TetMesh& mesh);
+/// fixed_vertices() for a command that cannot run a free body: throws InputError naming the
+/// scene file and /fixed, `command` and why it needs the region (`reason`) when it selects none.
+std::vector<int> required_fixed_vertices(const Scene& scene,
+                                         const TetMesh& mesh,
+                                         const std::string& command,
+                                         const std::string& reason);
+
+/// The scene's initial velocity on `mesh` (3 x #V, m/s): v_i = linear + angular x (x_i - c) at
+/// the rest positions x_i, c the given center or else the centre of mass at rest; zero at the
+/// fixed vertices, and everywhere when the scene has no initial velocity.
+Eigen::Matrix3Xd initial_velocities(const Scene& scene, const TetMesh& mesh);
+/// The centre of mass of `mesh` at rest, m (uniform density: the tets' volume-weighted centroid,
+/// which the lumped vertex masses share).
+Eigen::Vector3d rest_centre_of_mass(const TetMesh& mesh);
 
 /// The grasped vertices: those of the scene's grasp, else of its instrument's grasp (see
 /// surface_vertices_within), else none.

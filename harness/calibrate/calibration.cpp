@@ -6,6 +6,7 @@
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
 #include "harness/run/run_monitor.h"
+#include "harness/run/scene_mesh.h"
 #include "models/model_registry.h"
 #include "scenes/scene_regions.h"
 
@@ -54,7 +55,8 @@ StaticSag static_sag(const scenes::Scene& scene,
   std::vector<char> fixed(static_cast<std::size_t>(mesh.num_vertices()), 0);
   const Eigen::Matrix<double, 3, 2> box = bounding_box(mesh.rest_positions());
   RunMonitor monitor(mesh, scene.limits, (box.col(1) - box.col(0)).norm());
-  for (int vertex : scenes::fixed_vertices(scene, mesh)) {
+  for (int vertex : scenes::required_fixed_vertices(
+           scene, mesh, "calibrate", "the static sag it fits is the body's, hanging from it")) {
     pins.push_back({vertex, mesh.rest_positions().col(vertex)});
     fixed[static_cast<std::size_t>(vertex)] = 1;
   }
@@ -92,7 +94,7 @@ StiffnessCalibration calibrate_bullet_softbody(const scenes::Scene& scene,
                                                double tolerance,
                                                std::ostream* progress) {
   builtin_models().at(kModel);  // an InputError naming the known models if Bullet is not built
-  const TetMesh mesh = make_tet_mesh(read_mesh(scene.mesh));
+  const TetMesh mesh = read_scene_mesh(scene).body;  // checked against the scene's units
   StiffnessCalibration result;
 
   // The reference: the corotational FEM, or until it is registered, springs from E.

@@ -13,8 +13,9 @@ namespace softbench::harness {
 
 // Calibration of a stiffness that has no physical unit (bullet_softbody's kLST: its effect
 // depends on dt, iterations and mesh) against a physical reference: the static sag of the scene's
-// body under the scene's gravity with its fixed region held (grasp, instrument and gravity's
-// off time ignored), at the scene's dt.
+// body under the scene's gravity with its fixed region held (grasp, instrument, gravity's off
+// time and the initial velocity ignored), at the scene's dt. A free body (no fixed region) has
+// no static sag: it is refused with an InputError naming /fixed.
 
 struct StaticSagOptions {
   /// m/s: at rest once every free vertex stayed slower than this for 1 s of simulated time.
@@ -31,7 +32,7 @@ struct StaticSag {
 
 /// Runs `model` with the parameter block `params` on the scene from rest until it is at rest,
 /// judged by RunMonitor like every run. Damping only shortens this: a static equilibrium does
-/// not depend on it.
+/// not depend on it. Throws InputError when the scene's fixed region selects no vertex.
 StaticSag static_sag(const scenes::Scene& scene,
                      const TetMesh& mesh,
                      const std::string& model,

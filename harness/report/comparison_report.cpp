@@ -43,8 +43,8 @@ void scene_table(std::ostream& out, const SceneComparison& scene) {
   }
   out << "| model | thesis FPS | steps/s | steps/s with collision | stable | max inverted tets | "
          "recovery residual | time to 1% (s) | max penetration (mm) | peak tool force (N) "
-         "| max volume change |\n";
-  out << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "| max volume change | warnings |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ModelRun& run : scene.runs) {
     const std::optional<double> thesis = thesis_steps_per_second(run.model);
     out << "| " << run.model << " | " << (thesis ? fixed(*thesis, 1) : "-") << " | "
@@ -61,9 +61,9 @@ void scene_table(std::ostream& out, const SceneComparison& scene) {
         << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-")
         << " | " << fixed(1000.0 * run.contact.max_penetration, 2) << " | "
         << fixed(run.contact.peak_tool_force, 3) << " | "
-        << fixed(100.0 * run.shape.volume_change, 2) << "% |\n";
+        << fixed(100.0 * run.shape.volume_change, 2) << "% | " << warnings_cell(run) << " |\n";
   }
-  out << "\n";
+  out << "\n" << warnings_markdown(scene.runs);
 }
 
 }  // namespace
@@ -142,7 +142,9 @@ std::string comparison_markdown(const Comparison& comparison) {
          "beside both FEM rows). Residuals are RMS distances to the shape before the load, over "
          "the rest bounding-box diagonal, at the end of the run. The tool is the instrument, else "
          "the "
-         "grasp; its force is the sum of the constraint forces the tissue exerts on it.\n\n";
+         "grasp; its force is the sum of the constraint forces the tissue exerts on it. "
+         "\"warnings\" names the plausibility checks a run failed although it stayed stable "
+         "(harness/run/plausibility.h); each is explained under its table.\n\n";
   for (const SceneComparison& scene : comparison.scenes) {
     scene_table(out, scene);
   }

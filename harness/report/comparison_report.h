@@ -11,7 +11,7 @@
 namespace softbench::harness {
 
 /// compare.json's schema version ("softbench_compare"); bump it when a key changes meaning.
-inline constexpr int kCompareSchemaVersion = 2;
+inline constexpr int kCompareSchemaVersion = 3;
 
 /// compare.json: provenance, the thesis's figures, the criteria, per scene each run as
 /// metrics.json writes it (model_run_json.h) with the thesis's figure beside it
@@ -24,8 +24,9 @@ nlohmann::json comparison_json(const Comparison& comparison);
 Comparison comparison_from_json(const nlohmann::json& json);
 
 /// compare.md: per scene the chapter-3 table (thesis FPS beside our steps/s, simulation only and
-/// with collision; stability; recovery; penetration; instrument force; volume change), then the
-/// claims with pass/fail and their evidence.
+/// with collision; stability; recovery; penetration; instrument force; volume change; the
+/// plausibility warnings, listed under the table), then the claims with pass/fail and their
+/// evidence.
 std::string comparison_markdown(const Comparison& comparison);
 
 /// Writes out_dir/compare.json and out_dir/compare.md, each atomically.

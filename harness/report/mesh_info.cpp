@@ -1,10 +1,108 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/mesh_info.h"
 
+#include "collision/bvh.h"
+#include "collision/bvh_collide.h"
+#include "collision/exact_predicates.h"
+#include "collision/tri_tri_projection.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <sstream>
 
 namespace softbench::harness {
 namespace {
+
+using Point = Eigen::Vector3d;
+
+// orient2d of a, b, c on the plane with normal n, projected along n's largest component (exact
+// for points exactly in one plane: the projection is one-to-one there).
+int orient_in_plane(const Point& n, const Point& a, const Point& b, const Point& c) {
+  int drop = 0;
+  n.cwiseAbs().maxCoeff(&drop);
+  const int x = (drop + 1) % 3;
+  const int y = (drop + 2) % 3;
+  return collision::orient2d_exact(a[x], a[y], b[x], b[y], c[x], c[y]);
+}
+
+bool zero_area(const Point& a, const Point& b, const Point& c) {
+  return (b - a).cross(c - a).squaredNorm() == 0.0;
+}
+
+// Triangles a and b, which the closed test found to meet, cross or overlap somewhere other than
+// at the vertices they share (see find_self_intersections).
+bool meet_beyond_shared(const std::array<Point, 3>& a, const std::array<Point, 3>& b) {
+  std::array<int, 3> match_of_a{-1, -1, -1};  // the vertex of b at the same position
+  int shared = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (a[i] == b[j]) {
+        match_of_a[i] = j;
+      }
+    }
+    shared += match_of_a[i] >= 0 ? 1 : 0;
+  }
+  if (shared == 0) {
+    return true;
+  }
+  if (zero_area(a[0], a[1], a[2]) || zero_area(b[0], b[1], b[2])) {
+    return false;
+  }
+  if (shared == 3) {
+    return true;  // the same triangle twice
+  }
+  if (shared == 2) {
+    // Joined along an edge u-w: two planes meet only in the line uw, so they overlap only
+    // when both lie in one plane with their third vertices on the same side of uw.
+    const int ia = match_of_a[0] < 0 ? 0 : match_of_a[1] < 0 ? 1 : 2;
+    const Point& u = a[(ia + 1) % 3];
+    const Point& w = a[(ia + 2) % 3];
+    const Point& pa = a[ia];
+    const Point& pb = b[3 - match_of_a[(ia + 1) % 3] - match_of_a[(ia + 2) % 3]];
+    if (collision::orient3d_exact(u, w, pa, pb) != 0) {
+      return false;
+    }
+    const Point n = (w - u).cross(pa - u);
+    const int side_a = orient_in_plane(n, u, w, pa);
+    return side_a != 0 && side_a == orient_in_plane(n, u, w, pb);
+  }
+  // Joined at one vertex v: what they share is convex and holds v; if it holds more, it has a
+  // corner w other than v. w lies on the edge opposite v in A or in B (then that edge meets the
+  // other triangle at w), or on an edge from v, which ends in the other triangle there (at a1,
+  // say, making the opposite edge a1 a2 meet it) or where the other's edge opposite v crosses
+  // it. So: do the edges opposite v meet the other triangle?
+  const int ia = match_of_a[0] >= 0 ? 0 : match_of_a[1] >= 0 ? 1 : 2;
+  const int ib = match_of_a[ia];
+  const Point& a1 = a[(ia + 1) % 3];
+  const Point& a2 = a[(ia + 2) % 3];
+  const Point& b1 = b[(ib + 1) % 3];
+  const Point& b2 = b[(ib + 2) % 3];
+  // An edge is tested as a triangle of zero area (the test reduces it exactly to the segment).
+  return collision::tri_tri_projection(a1, a2, a2, b[0], b[1], b[2]).intersect()
+         || collision::tri_tri_projection(b1, b2, b2, a[0], a[1], a[2]).intersect();
+}
+
+void report_self_intersections(const Eigen::Matrix3Xd& vertices,
+                               const Eigen::Matrix3Xi& triangles,
+                               MeshInfo& info) {
+  const SelfIntersections found = find_self_intersections(vertices, triangles);
+  info.self_intersecting_pairs = found.pairs;
+  if (found.pairs == 0) {
+    return;
+  }
+  std::string examples;
+  for (const auto& [a, b] : found.examples) {
+    examples += (examples.empty() ? "" : ", ") + std::to_string(a) + " and " + std::to_string(b);
+  }
+  info.problems.push_back(
+      {MeshProblem::Severity::kError,
+       "surface intersects itself: " + std::to_string(found.pairs)
+           + " triangle pair(s) cross or overlap where they are not joined (e.g. triangles "
+           + examples + ", 0-based); TetGen refuses such a surface"});
+}
 
 void append(std::vector<MeshProblem>& to, const std::vector<MeshProblem>& from) {
   to.insert(to.end(), from.begin(), from.end());
@@ -42,6 +140,7 @@ void inspect_tets(const MeshData& data, MeshInfo& info) {
       info.problems.push_back(
           {MeshProblem::Severity::kError, "tet boundary is not a closed manifold surface"});
     }
+    report_self_intersections(data.vertices, boundary, info);
   }
 }
 
@@ -51,6 +150,10 @@ void inspect_tets(const MeshData& data, MeshInfo& info) {
 void inspect_boundary_elements(const MeshData& data, MeshInfo& info) {
   info.surface = surface_topology(data.triangles, info.vertices);
   info.surface_area = surface_area(TriMesh{data.vertices, data.triangles});
+  if (data.vertices.allFinite() && data.triangles.minCoeff() >= 0
+      && data.triangles.maxCoeff() < info.vertices) {
+    report_self_intersections(data.vertices, data.triangles, info);
+  }
 }
 
 void inspect_surface(const MeshData& data, MeshInfo& info) {
@@ -65,6 +168,7 @@ void inspect_surface(const MeshData& data, MeshInfo& info) {
   info.edges = static_cast<int>(unique_edges(data.triangles).cols());
   const TriMesh surface{data.vertices, data.triangles};
   info.surface_area = surface_area(surface);
+  report_self_intersections(data.vertices, data.triangles, info);
   if (!info.surface.closed_manifold() || !info.surface.oriented()) {
     return;
   }
@@ -86,6 +190,47 @@ nlohmann::json vector_json(const Eigen::Vector3d& v) {
 }
 
 }  // namespace
+
+SelfIntersections find_self_intersections(const Eigen::Matrix3Xd& vertices,
+                                          const Eigen::Matrix3Xi& triangles,
+                                          int max_examples) {
+  SelfIntersections found;
+  if (triangles.cols() < 2) {
+    return found;
+  }
+  // Deep enough for leaves of about 8 triangles.
+  constexpr int kLeaf = 8;
+  int levels = 1;
+  while (levels < collision::BvhSchedule::kMaxLevels
+         && static_cast<double>(kLeaf) * std::pow(2.0, levels - 1)
+                < static_cast<double>(triangles.cols())) {
+    ++levels;
+  }
+  const collision::Bvh tree(vertices, triangles, collision::BvhSchedule::all_aabb(levels, kLeaf));
+  collision::CollideBuffers buffers;
+  std::vector<collision::TrianglePair> pairs;
+  collision::collide(tree, vertices, tree, vertices, buffers, pairs);
+  std::vector<std::pair<int, int>> crossing;
+  for (const collision::TrianglePair& pair : pairs) {
+    if (pair.a >= pair.b) {
+      continue;  // each pair is found both ways round, and every triangle meets itself
+    }
+    std::array<Point, 3> a;
+    std::array<Point, 3> b;
+    for (int corner = 0; corner < 3; ++corner) {
+      a[corner] = vertices.col(triangles(corner, pair.a));
+      b[corner] = vertices.col(triangles(corner, pair.b));
+    }
+    if (meet_beyond_shared(a, b)) {
+      crossing.emplace_back(pair.a, pair.b);
+    }
+  }
+  std::sort(crossing.begin(), crossing.end());
+  found.pairs = static_cast<int>(crossing.size());
+  const auto examples = std::min<std::size_t>(crossing.size(), std::max(max_examples, 0));
+  found.examples.assign(crossing.begin(), crossing.begin() + static_cast<std::ptrdiff_t>(examples));
+  return found;
+}
 
 bool MeshInfo::usable() const {
   for (const MeshProblem& problem : problems) {
@@ -151,6 +296,7 @@ nlohmann::json to_json(const MeshInfo& info) {
   } else {
     json["quality"] = nullptr;
   }
+  json["self_intersecting_pairs"] = info.self_intersecting_pairs;
   json["problems"] = nlohmann::json::array();
   for (const MeshProblem& problem : info.problems) {
     json["problems"].push_back(

@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softbench::harness {
@@ -30,13 +31,38 @@ struct MeshInfo {
   std::optional<double> surface_area;
   SurfaceTopology surface;            ///< of `triangles`
   std::optional<TetQuality> quality;  ///< with tets only
+  /// Pairs of `triangles` that intersect other than where the surface joins them
+  /// (find_self_intersections); each is an error, as TetGen refuses such a surface.
+  int self_intersecting_pairs = 0;
   std::vector<MeshProblem> problems;
 
   /// No error-severity problem: the mesh can be simulated (tets) or collided with (surface).
   bool usable() const;
 };
 
-/// Inspects a mesh as read from a file: never throws for geometric problems, it lists them.
+/// The triangle pairs of a surface that intersect where the surface does not join them.
+struct SelfIntersections {
+  int pairs = 0;
+  std::vector<std::pair<int, int>> examples;  ///< the first few pairs found, triangle indices
+};
+
+/// Every pair of `triangles` (3 x #T, into `vertices`, 3 x #V) that intersects other than where
+/// the two are joined: candidate pairs from a BVH over the surface (collision/bvh_collide.h),
+/// each decided by the exact projection test (collision/tri_tri_projection.h) and exact
+/// orientation signs. Triangles that share vertices (same index or same position) touch there,
+/// which is not an intersection; they count only where they genuinely cross or overlap:
+///  - one shared vertex: when the edge opposite it in either meets the other triangle (what
+///    they share is convex and holds the vertex; any other corner of it lies on such an edge);
+///  - one shared edge: when the two lie in one plane on the same side of it (folded over);
+///  - three shared vertices: a duplicated triangle.
+/// Touching counts as intersecting (the tests are closed), as for TetGen. A pair where a
+/// triangle of zero area shares a vertex is left out (validation reports zero-area triangles).
+SelfIntersections find_self_intersections(const Eigen::Matrix3Xd& vertices,
+                                          const Eigen::Matrix3Xi& triangles,
+                                          int max_examples = 5);
+
+/// Inspects a mesh as read from a file: never throws for geometric problems, it lists them
+/// (including a self-intersecting surface, the file's triangles or the tets' boundary).
 MeshInfo inspect_mesh(const MeshData& data);
 
 nlohmann::json to_json(const MeshInfo& info);

@@ -106,6 +106,7 @@ nlohmann::json to_json(const ModelRun& run) {
       {"max_speed", number_or_null(stability.max_speed)},
       {"max_kinetic_energy", number_or_null(stability.max_kinetic_energy)}};
   json["shape"] = {{"max_inverted_tets", run.shape.max_inverted_tets},
+                   {"final_inverted_tets", run.shape.final_inverted_tets},
                    {"volume_change", number_or_null(run.shape.volume_change)},
                    {"final_elastic_energy", number_or_null(run.shape.final_elastic_energy)}};
   if (run.recovery.measured) {
@@ -119,7 +120,8 @@ nlohmann::json to_json(const ModelRun& run) {
                      {"max_penetration_pressing", contact.max_penetration_pressing},
                      {"lost_contact_vertices", contact.lost_contact_vertices},
                      {"max_triangle_pairs", contact.max_triangle_pairs},
-                     {"peak_tool_force", contact.peak_tool_force}};
+                     {"peak_tool_force", contact.peak_tool_force},
+                     {"loaded_travel", contact.loaded_travel}};
   const SolverMetrics& solver = run.solver;
   json["solver"] = {{"mean_iterations", solver.mean_iterations},
                     {"factorizations", solver.factorizations},
@@ -138,6 +140,10 @@ nlohmann::json to_json(const ModelRun& run) {
                         {"peak_force_error", optional_json(a.peak_force_error)}};
   } else {
     json["accuracy"] = nullptr;  // the scene asks for no accuracy: no reference was run
+  }
+  json["warnings"] = nlohmann::json::array();
+  for (const Warning& warning : run.warnings) {
+    json["warnings"].push_back({{"id", warning.id}, {"message", warning.message}});
   }
   json["series"] = series_json(run.samples);
   return json;
@@ -172,6 +178,7 @@ ModelRun model_run_from_json(const JsonReader& in) {
 
   const JsonReader shape = in.object("shape");
   run.shape.max_inverted_tets = shape.integer("max_inverted_tets", 0, kMaxCount);
+  run.shape.final_inverted_tets = shape.integer("final_inverted_tets", 0, kMaxCount);
   run.shape.volume_change = number_or(shape, "volume_change", kInfinity);
   run.shape.final_elastic_energy = number_or(shape, "final_elastic_energy", kNaN);
 
@@ -188,6 +195,7 @@ ModelRun model_run_from_json(const JsonReader& in) {
   run.contact.lost_contact_vertices = contact.integer("lost_contact_vertices", 0, kMaxCount);
   run.contact.max_triangle_pairs = contact.integer("max_triangle_pairs", 0, kMaxCount);
   run.contact.peak_tool_force = contact.number("peak_tool_force");
+  run.contact.loaded_travel = contact.number("loaded_travel");
 
   const JsonReader solver = in.object("solver");
   run.solver.mean_iterations = solver.number("mean_iterations");
@@ -214,6 +222,10 @@ ModelRun model_run_from_json(const JsonReader& in) {
                             number_or(accuracy, "max_error", kInfinity),
                             number_or(accuracy, "volume_error", kInfinity),
                             optional_number(accuracy, "peak_force_error")};
+  }
+  for (const JsonReader& warning : in.objects("warnings")) {
+    run.warnings.push_back({warning.string("id"), warning.string("message")});
+    warning.reject_unknown_keys();
   }
   run.samples = read_series(in.object("series"));
   return run;

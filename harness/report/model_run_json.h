@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // One ModelRun as JSON, the same object in metrics.json and compare.json: a group per metrics
-// struct ("timing", "stability", "shape", "recovery", "contact", "solver", "accuracy") and the
+// struct ("timing", "stability", "shape", "recovery", "contact", "solver", "accuracy"), the
+// plausibility warnings ("warnings": [{"id": ..., "message": ...}], empty when none) and the
 // per-step series as columns ("series": {"time": [...], "tool_displacement": [...],
 // "tool_force": [...], "recovery_residual": [...]}), null wherever a value is NaN or infinite
 // (JSON has neither): the residual before the release, errors of a run that blew up.

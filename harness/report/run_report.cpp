@@ -21,6 +21,32 @@ nlohmann::json metrics_json(const scenes::Scene& scene, const std::vector<ModelR
   return json;
 }
 
+std::string warnings_cell(const ModelRun& run) {
+  if (run.warnings.empty()) {
+    return "none";
+  }
+  std::string cell;
+  for (const Warning& warning : run.warnings) {
+    cell += (cell.empty() ? "" : ", ") + warning.id;
+  }
+  return cell;
+}
+
+std::string warnings_markdown(const std::vector<ModelRun>& runs) {
+  std::ostringstream out;
+  for (const ModelRun& run : runs) {
+    for (const Warning& warning : run.warnings) {
+      out << "- **" << run.model << "**: " << warning.id << ": " << warning.message << "\n";
+    }
+  }
+  if (out.tellp() == 0) {
+    return "";
+  }
+  return "Plausibility warnings (stable runs whose numbers are not a tissue's; thresholds in "
+         "harness/run/plausibility.h):\n\n"
+         + out.str() + "\n";
+}
+
 std::string summary_markdown(const scenes::Scene& scene, const std::vector<ModelRun>& runs) {
   std::ostringstream out;
   out << "# " << scene.name << "\n\n";
@@ -31,8 +57,8 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
       << "over the steps after warm-up, measured around step() only.\n\n";
   out << "| model | stable | steps/s | steps/s with collision | step ms (median / p95 / max) | "
          "iterations | max inverted tets | max volume change | recovery residual | "
-         "time to 1% (s) | max penetration (mm) | peak tool force (N) |\n";
-  out << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "time to 1% (s) | max penetration (mm) | peak tool force (N) | warnings |\n";
+  out << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ModelRun& run : runs) {
     out << "| " << run.model << " | "
         << (run.stability.stable ? "yes"
@@ -47,7 +73,11 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
         << (run.recovery.measured ? fixed(100.0 * run.recovery.residual, 2) + "%" : "-") << " | "
         << (run.recovery.time_to_one_percent ? fixed(*run.recovery.time_to_one_percent, 2) : "-")
         << " | " << fixed(1000.0 * run.contact.max_penetration, 2) << " | "
-        << fixed(run.contact.peak_tool_force, 3) << " |\n";
+        << fixed(run.contact.peak_tool_force, 3) << " | " << warnings_cell(run) << " |\n";
+  }
+  const std::string warnings = warnings_markdown(runs);
+  if (!warnings.empty()) {
+    out << "\n" << warnings;
   }
   return out.str();
 }

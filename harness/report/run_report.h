@@ -17,7 +17,13 @@ namespace softbench::harness {
 /// (model_run_json.h).
 nlohmann::json metrics_json(const scenes::Scene& scene, const std::vector<ModelRun>& runs);
 
-/// A Markdown table a person reads: one row per model.
+/// A run's plausibility warnings for a table cell: their ids, comma-separated, or "none".
+std::string warnings_cell(const ModelRun& run);
+/// The warnings of `runs` as a Markdown list under their table ("" when there are none): one
+/// item per warning, "- **model**: id: message".
+std::string warnings_markdown(const std::vector<ModelRun>& runs);
+
+/// A Markdown table a person reads: one row per model, its plausibility warnings after it.
 std::string summary_markdown(const scenes::Scene& scene, const std::vector<ModelRun>& runs);
 
 /// Writes out_dir/metrics.json and out_dir/summary.md, each atomically (temporary + rename), so

@@ -4,6 +4,7 @@
 #include "geometry/atomic_file.h"
 #include "harness/provenance.h"
 #include "harness/report/run_report.h"
+#include "harness/run/plausibility.h"
 
 #include <cmath>
 #include <iomanip>
@@ -31,6 +32,20 @@ nlohmann::json verdict_json(const RunVerdict& verdict) {
       {"time_to_one_percent_s", verdict.time_to_one_percent
                                     ? nlohmann::json(*verdict.time_to_one_percent)
                                     : nlohmann::json(nullptr)}};
+}
+
+// The plausibility checks a stability run can be judged by: it knows its inverted-tet counts,
+// not its volume or its tool (the map's runs hang under gravity; the shape tortures start from
+// a shape no tissue takes, so inverted tets during the run are the test, not a finding). A
+// stable run still inverted at the end is stuck inverted.
+std::vector<Warning> verdict_warnings(const RunVerdict& verdict) {
+  std::vector<Warning> warnings;
+  if (verdict.stable()) {
+    if (std::optional<Warning> stuck = stuck_inverted_warning(verdict.final_inverted_tets)) {
+      warnings.push_back(*stuck);
+    }
+  }
+  return warnings;
 }
 
 std::string percent(double fraction) {
@@ -120,6 +135,10 @@ nlohmann::json stability_json(const StabilityReport& report) {
         item["recovered"] = torture.recovered;
         item["nan"] = torture.verdict.nan;
         item["verdict"] = verdict_json(torture.verdict);
+        item["warnings"] = nlohmann::json::array();
+        for (const Warning& warning : verdict_warnings(torture.verdict)) {
+          item["warnings"].push_back({{"id", warning.id}, {"message", warning.message}});
+        }
       }
       entry["torture"].push_back(item);
     }
@@ -206,14 +225,18 @@ std::string stability_markdown(const StabilityReport& report) {
          "recovered toward (rest; for the scene runs, the scene's reference shape) is below "
       << percent(kRecoveredResidual)
       << " of the bounding-box diagonal at the end. Inverted tets: the most over the steps "
-         "the model moved the body, and how many were still inverted at the end.\n\n";
+         "the model moved the body, and how many were still inverted at the end. Warnings: the "
+         "plausibility checks (harness/run/plausibility.h) a torture run can be judged by; it "
+         "knows only its inverted tets, so only a stable run stuck inverted at the end "
+         "(stuck_inverted) is flagged.\n\n";
   out << "| model | case | stable | recovered | NaN | inverted tets (max / at the end) | final "
-         "residual | time to 1% (s) | wall (s) |\n|---|---|---|---|---|---|---|---|---|\n";
+         "residual | time to 1% (s) | wall (s) | warnings |\n"
+         "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const ModelStability& model : report.models) {
     for (const TortureResult& torture : model.torture) {
       out << "| " << model.model << " | " << torture_name(torture.which) << " | ";
       if (!torture.run) {
-        out << "not run | - | - | - | - | - | - |\n";
+        out << "not run | - | - | - | - | - | - | - |\n";
         continue;
       }
       const RunVerdict& verdict = torture.verdict;
@@ -226,8 +249,13 @@ std::string stability_markdown(const StabilityReport& report) {
           << (verdict.nan ? "**yes**" : "no") << " | " << verdict.max_inverted_tets << " / "
           << verdict.final_inverted_tets << " | "
           << (std::isfinite(verdict.residual) ? percent(verdict.residual) : "-") << " | ";
+      std::string warnings;
+      for (const Warning& warning : verdict_warnings(verdict)) {
+        warnings += (warnings.empty() ? "" : ", ") + warning.id;
+      }
       out << (verdict.time_to_one_percent ? fixed(*verdict.time_to_one_percent, 2) : "-") << " | "
-          << fixed(verdict.wall_seconds, 1) << " |\n";
+          << fixed(verdict.wall_seconds, 1) << " | " << (warnings.empty() ? "none" : warnings)
+          << " |\n";
     }
   }
   out << "\nHow each case was set up:\n\n";

@@ -4,6 +4,8 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
+#include "harness/run/loaded_travel.h"
+#include "harness/run/plausibility.h"
 #include "harness/run/run_monitor.h"
 #include "harness/run/scene_stepper.h"
 #include "models/model_registry.h"
@@ -51,7 +53,8 @@ class RunRecorder {
       : mesh_(mesh.body),
         run_(run),
         rest_volume_(mesh_volume(mesh.body)),
-        masses_(lumped_masses(mesh.body, scene.material.density)) {
+        masses_(lumped_masses(mesh.body, scene.material.density)),
+        travel_(scene, mesh) {
     const auto planned = static_cast<std::size_t>(run.timing.steps_planned);
     step_ms_.reserve(planned);
     step_with_collision_ms_.reserve(planned);
@@ -79,7 +82,8 @@ class RunRecorder {
     stability.max_kinetic_energy =
         std::max(stability.max_kinetic_energy, kinetic_energy(masses_, body.velocities()));
     ShapeMetrics& shape = run_.shape;
-    shape.max_inverted_tets = std::max(shape.max_inverted_tets, count_inverted_tets(mesh_, x));
+    shape.final_inverted_tets = count_inverted_tets(mesh_, x);
+    shape.max_inverted_tets = std::max(shape.max_inverted_tets, shape.final_inverted_tets);
     shape.volume_change = std::max(shape.volume_change,
                                    std::abs(mesh_volume(mesh_, x) - rest_volume_) / rest_volume_);
     StepSample sample;
@@ -87,6 +91,7 @@ class RunRecorder {
     sample.tool_displacement = stepper.loading().tool_displacement();
     sample.tool_force = stepper.loading().tool_force();
     run_.contact.peak_tool_force = std::max(run_.contact.peak_tool_force, sample.tool_force);
+    travel_.observe(time, x, sample.tool_displacement);
     if (stepper.have_reference() && stepper.recovery().released()) {
       sample.recovery_residual = stepper.recovery().residual();
     }
@@ -104,6 +109,7 @@ class RunRecorder {
     run_.contact.max_penetration_pressing = loading.max_penetration_pressing();
     run_.contact.lost_contact_vertices = loading.lost_contact_vertices();
     run_.contact.max_triangle_pairs = loading.max_triangle_pairs();
+    run_.contact.loaded_travel = travel_.max();
     run_.solver.mean_iterations = timing.steps_run > 0 ? total_iterations_ / timing.steps_run : 0.0;
     run_.solver.final_reaction_sum = body.constraint_forces().rowwise().sum();
     run_.shape.final_elastic_energy = body.elastic_energy();
@@ -118,6 +124,7 @@ class RunRecorder {
   ModelRun& run_;
   double rest_volume_;
   Eigen::VectorXd masses_;
+  LoadedTravel travel_;
   std::vector<double> step_ms_;
   std::vector<double> step_with_collision_ms_;
   double total_iterations_ = 0.0;
@@ -133,7 +140,11 @@ void print_outcome(const RunOptions& options, const ModelRun& run) {
                             ? "stable"
                             : "UNSTABLE at step " + std::to_string(*run.stability.diverged_at_step))
                     << ", median step " << run.timing.step_ms.median << " ms ("
-                    << run.timing.steps_per_second << " steps/s)\n";
+                    << run.timing.steps_per_second << " steps/s)";
+  for (const Warning& warning : run.warnings) {
+    *options.progress << "\n  warning: " << warning.id << ": " << warning.message;
+  }
+  *options.progress << "\n";
 }
 
 ModelRun run_model(const scenes::Scene& scene,
@@ -153,6 +164,7 @@ ModelRun run_model(const scenes::Scene& scene,
   run.solver.memory_bytes = body->memory_bytes();
 
   SceneStepper stepper(scene, mesh);
+  stepper.start(*body);
   RunMonitor monitor(mesh.body, scene.limits, mesh.diagonal());
   RunRecorder recorder(scene, mesh, run);
   for (int step = 0; step < run.timing.steps_planned; ++step) {
@@ -190,6 +202,7 @@ ModelRun run_model(const scenes::Scene& scene,
     }
   }
   recorder.finish(*body, stepper);
+  run.warnings = judge_plausibility(run, scene);
   print_outcome(options, run);
   return run;
 }

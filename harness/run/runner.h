@@ -65,6 +65,7 @@ struct StabilityMetrics {
 /// What the deformation did to the mesh.
 struct ShapeMetrics {
   int max_inverted_tets = 0;
+  int final_inverted_tets = 0;        ///< after the last step run (> 0: stuck inverted)
   double volume_change = 0.0;         ///< largest |V(t) - V0| / V0
   double final_elastic_energy = 0.0;  ///< J (NaN for models without one)
 };
@@ -89,6 +90,17 @@ struct ContactMetrics {
   int lost_contact_vertices = 0;
   int max_triangle_pairs = 0;    ///< Loading::max_triangle_pairs
   double peak_tool_force = 0.0;  ///< N: largest StepSample::tool_force
+  /// m: how far the tool went into the tissue while it loaded it (LoadedTravel): a pressing
+  /// instrument, how far it went into the tissue's shape before the load (past first contact); a
+  /// grasp, the grasped patch's largest travel while held. 0 without a tool.
+  double loaded_travel = 0.0;
+};
+
+/// A plausibility warning on a run that may well be stable (plausibility.h judges them): a
+/// stable id for scripts and a sentence with the measured value and the threshold it crossed.
+struct Warning {
+  std::string id;
+  std::string message;
 };
 
 /// The model's solver and footprint.
@@ -115,6 +127,9 @@ struct ModelRun {
   SolverMetrics solver;
   /// Against the reference, when the scene asks for an accuracy (filled by the run command).
   std::optional<Accuracy> accuracy;
+  /// What is physically implausible in a run that stayed within the scene's limits
+  /// (judge_plausibility, filled by run_scene); empty for a plausible or a diverged run.
+  std::vector<Warning> warnings;
   std::vector<StepSample> samples;  ///< one per step run
   std::vector<Snapshot> snapshots;  ///< at RunOptions::snapshot_times reached before a blow-up
 };

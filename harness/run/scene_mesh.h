@@ -22,7 +22,12 @@ struct SceneMesh {
   double diagonal() const;  ///< m, the rest bounding-box diagonal
 };
 
-/// Reads scene.mesh (and the instrument's mesh). Throws InputError naming the file.
+/// Reads scene.mesh (and the instrument's mesh). Throws InputError naming the file, also when the
+/// body's mesh is far from the size the scene expects: its bounding-box diagonal more than 20x
+/// larger than what the scene's fixed box (within the mesh's box), grasp and instrument path
+/// (and the tool itself) span, or more than 20x smaller than the first three, the mark of a mesh
+/// in millimetres for a scene in metres or the other way round. A scene with none of those (a
+/// fixed plane or vertex list only) is not checked.
 SceneMesh read_scene_mesh(const scenes::Scene& scene);
 
 }  // namespace softbench::harness

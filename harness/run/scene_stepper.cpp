@@ -1,16 +1,27 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run/scene_stepper.h"
 
+#include "scenes/scene_regions.h"
+
 namespace softbench::harness {
 
 SceneStepper::SceneStepper(const scenes::Scene& scene, const SceneMesh& mesh)
     : scene_(scene),
+      initial_velocities_(scene.initial_velocity
+                              ? std::optional(scenes::initial_velocities(scene, mesh.body))
+                              : std::nullopt),
       loading_(scene, mesh),
       has_tool_(scene.grasp.has_value() || scene.instrument.has_value()),
       forces_(Eigen::Matrix3Xd::Zero(3, mesh.body.num_vertices())),
       recovery_(scene.release_time(), mesh.diagonal()),
       reference_(mesh.body.rest_positions()),
       have_reference_(scene.reference_time() <= 0.0) {
+}
+
+void SceneStepper::start(SoftBody& body) const {
+  if (initial_velocities_) {
+    body.set_velocities(*initial_velocities_);
+  }
 }
 
 StepInput SceneStepper::input(int step, const SoftBody& body) {

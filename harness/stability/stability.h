@@ -24,7 +24,7 @@ namespace softbench::harness {
 //   Time steps are tried from the largest down, halving, and the scan stops at the first stable
 //   one (larger steps are the harder ones for every integrator here; smaller steps than the
 //   first stable one are not run). A run is `map_duration` of the scene's fixed region and
-//   gravity, from rest.
+//   gravity, from rest (the scene's initial velocity is not used).
 // - The torture cases: the body forced into an extreme shape and let go (squash, collapse,
 //   scramble, stretch: run_torture), or the scene's own loading with an extreme material or mesh
 //   (near-incompressible, sliver: run_scene_loading), each judged stable / recovered / NaN.
@@ -136,7 +136,8 @@ struct ModelStability {
 /// The map and torture cases of one model on `mesh` under `scene` (its fixed region, gravity,
 /// limits, dt for the tortures, material, per-model parameters and loading). The scene's mesh
 /// path is not read: `mesh` is the body (a test may pass a mesh made in code). Throws
-/// InputError for an unknown model or a bad parameter block.
+/// InputError for an unknown model, a bad parameter block, or a scene whose fixed region selects
+/// no vertex (a free body: the map and the torture cases hang the body from its fixed region).
 ModelStability model_stability(const scenes::Scene& scene,
                                const SceneMesh& mesh,
                                const std::string& model,

@@ -192,6 +192,7 @@ RunVerdict run_scene_loading(SoftBody& body,
                              const RunBounds& bounds) {
   Monitor monitor(mesh.body, bounds, steps);
   SceneStepper stepper(scene, mesh);
+  stepper.start(body);
   for (int step = 0; step < steps; ++step) {
     const double start = step * scene.dt;
     const StepInput input = stepper.input(step, body);

@@ -173,6 +173,21 @@ StepStats BulletBody::step(double dt, const StepInput& input) {
   return stats;
 }
 
+void BulletBody::set_velocities(const Eigen::Matrix3Xd& velocities) {
+  check_velocities(velocities);
+  if (last_.taken) {
+    // The reaction estimate is m (v_after - v_before) / dt - f: shift both ends alike.
+    last_.velocities_before += velocities - velocities_;
+  }
+  velocities_ = velocities;
+  btSoftBody& body = world_->body();
+  for (int i = 0; i < body.m_nodes.size(); ++i) {
+    btSoftBody::Node& node = body.m_nodes[i];
+    node.m_v = to_bullet(velocities_.col(i));
+    node.m_vn = node.m_v;
+  }
+}
+
 Eigen::Matrix3Xd BulletBody::constraint_forces() const {
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, positions_.cols());
   if (!last_.taken || diverged_) {

@@ -108,6 +108,10 @@ class BulletBody final : public SoftBody {
 
   const Eigen::Matrix3Xd& positions() const override { return positions_; }
   const Eigen::Matrix3Xd& velocities() const override { return velocities_; }
+  /// Sets every node's m_v and m_vn (the implicit solver restarts from m_vn). The last step's
+  /// velocities before it move by the same change, so constraint_forces() still reports that
+  /// step. A diverged body stays diverged.
+  void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   Eigen::Matrix3Xd constraint_forces() const override;
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;

@@ -192,6 +192,10 @@ ModelInfo bullet_deformable_info() {
     validate_material(material, source.file + ": /material");
     return bullet::make_deformable_body(mesh, material, parsed);
   };
+  // The neo-Hookean damping stress acts on the velocity gradient, which is zero at rest: the
+  // equilibrium does not depend on it. (It is not rotation-invariant: it also brakes a rigid
+  // rotation, which is why a free spin turns it off.)
+  info.settling_damping = {{"damping", 0.05}};  // s, Bullet's default
   return info;
 }
 

@@ -123,7 +123,10 @@ struct BulletDeformableParams {
   /// symplectic Euler for the elastic force, stable only below the CFL limit (~1 ms here).
   bool implicit = true;
   /// s, neo-Hookean only: Bullet's damping stress d mu (dF + dF^T) + d lambda tr(dF) I. More:
-  /// faster settling, more CG iterations. Bullet's own default is 0.05.
+  /// faster settling, more CG iterations. Bullet's own default is 0.05. Not rotation-invariant
+  /// (dF of a rotated body spinning is not skew): it brakes rigid rotation too, and a free box
+  /// spun at 3 rad/s keeps 0.02% of its angular momentum after 2 s (tests/models/
+  /// free_spin_test.cpp).
   double damping = 0.05;
   /// N/m per link, mass_spring only; 0 = young_modulus x the mean edge length (the usual k ~ E h
   /// heuristic: 450 N/m for 30 kPa and 1.5 cm edges). Stiffer: smaller sag, smaller stable dt.

@@ -146,6 +146,12 @@ void CorotationalFemModel::reset() {
   }
 }
 
+void CorotationalFemModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
+  check_velocities(velocities);
+  velocities_ = velocities;
+  velocity_change_.setZero();
+}
+
 double CorotationalFemModel::elastic_energy() const {
   const bool corotational =
       params_.formulation == CorotationalFemParams::Formulation::kCorotational;

@@ -56,6 +56,9 @@ class CorotationalFemModel final : public SoftBody {
 
   const Eigen::Matrix3Xd& positions() const override { return positions_; }
   const Eigen::Matrix3Xd& velocities() const override { return velocities_; }
+  /// Also drops the solve's warm start (the last dv, made for the old velocities); the element
+  /// rotations' warm starts depend on the positions only and are kept.
+  void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
   /// At the current positions, with the exact polar rotation (SVD) whatever `rotation` is, so
   /// it is a function of the positions alone.

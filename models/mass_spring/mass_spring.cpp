@@ -128,6 +128,14 @@ void MassSpringModel::reset() {
   }
 }
 
+void MassSpringModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
+  check_velocities(velocities);
+  velocities_ = velocities;
+  if (pattern_ != nullptr) {
+    velocity_change_.setZero();
+  }
+}
+
 double MassSpringModel::elastic_energy() const {
   double energy = 0.0;
   for (Eigen::Index e = 0; e < springs_.cols(); ++e) {

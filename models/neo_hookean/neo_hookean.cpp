@@ -82,6 +82,11 @@ void NeoHookeanModel::reset() {
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
 }
 
+void NeoHookeanModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
+  check_velocities(velocities);
+  velocities_ = velocities;
+}
+
 double NeoHookeanModel::elastic_energy() const {
   double energy = 0.0;
   for (int t = 0; t < num_elements_; ++t) {

@@ -62,6 +62,11 @@ void ShapeMatchingModel::reset() {
   matcher_.reset();
 }
 
+void ShapeMatchingModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
+  check_velocities(velocities);
+  velocities_ = velocities;
+}
+
 double ShapeMatchingModel::elastic_energy() const {
   return std::numeric_limits<double>::quiet_NaN();
 }

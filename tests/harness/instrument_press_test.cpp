@@ -109,6 +109,13 @@ TEST_P(PhysicalModelPress, NeitherPassesThroughNorLetsGoAndTheTissueRecovers) {
   // magnitude, not an exact value.
   EXPECT_GT(run.contact.peak_tool_force, 0.3);
   EXPECT_LT(run.contact.peak_tool_force, 20.0);
+
+  // The tool's bottom went 1 cm below the block's top as it was before the press; it read a
+  // force, so the plausibility check has nothing to say about it.
+  EXPECT_NEAR(run.contact.loaded_travel, kDepth, 1e-6);
+  for (const Warning& warning : run.warnings) {
+    EXPECT_NE(warning.id, "no_contact_force") << warning.message;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Models,

@@ -112,7 +112,7 @@ TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
   ASSERT_EQ(metrics["runs"].size(), 1u);
   const nlohmann::json& run = metrics["runs"][0];
   for (const char* key : {"model", "params", "mesh", "timing", "stability", "shape", "recovery",
-                          "contact", "solver", "accuracy", "series"}) {
+                          "contact", "solver", "accuracy", "warnings", "series"}) {
     EXPECT_TRUE(run.contains(key)) << key;
   }
   for (const char* key : {"steps_planned", "steps_run", "step_ms", "steps_per_second",
@@ -124,6 +124,9 @@ TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
   }
   EXPECT_TRUE(run["shape"].contains("max_inverted_tets"));
   EXPECT_TRUE(run["shape"].contains("volume_change"));
+  EXPECT_TRUE(run["shape"].contains("final_inverted_tets"));
+  EXPECT_TRUE(run["contact"].contains("loaded_travel"));
+  EXPECT_TRUE(run["warnings"].is_array());
   EXPECT_TRUE(run["recovery"].contains("residual"));
   EXPECT_TRUE(run["recovery"].contains("time_to_one_percent_s"));
   EXPECT_TRUE(metrics["scene"].contains("material"));

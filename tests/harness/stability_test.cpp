@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/stability/stability.h"
 
+#include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
@@ -259,6 +260,21 @@ TEST_F(StabilityRuns, TheMapFindsTheLargestStableStepOfAnExplicitModel) {
   EXPECT_EQ(matching.axis.parameter, "alpha");
   for (const MapRow& row : matching.map) {
     EXPECT_TRUE(row.cells[0].is(RunStatus::kStable)) << "alpha " << row.value;
+  }
+}
+
+TEST_F(StabilityRuns, RefusesAFreeBodyNamingTheFixedRegion) {
+  const SceneMesh mesh = read_scene_mesh(scene_);
+  scene_.fixed = {};
+  try {
+    model_stability(scene_, mesh, "corotational_fem", settings());
+    ADD_FAILURE() << "no InputError for a scene without a fixed region";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              scene_.source.string()
+                  + ": /fixed: absent (a free body); stability needs a fixed region: its map "
+                    "hangs the body from it under gravity, and its torture cases let the body "
+                    "recover with it held");
   }
 }
 

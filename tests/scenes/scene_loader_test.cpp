@@ -38,6 +38,7 @@ constexpr const char* kFullScene = R"({
     "box": { "min": [0, 0, 0], "max": [0.1, 0.1, 0] },
     "plane": { "point": [0, 0, 0], "normal": [2, 0, 0], "tolerance": 0.001 }
   },
+  "initial_velocity": { "linear": [0.1, 0, -0.2], "angular": [0, 0, 3], "center": [0.05, 0.05, 0] },
   "grasp": {
     "center": [0.1, 0.1, 0.1],
     "radius": 0.02,
@@ -127,6 +128,12 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_TRUE(a.fixed.plane->normal.isApprox(b.fixed.plane->normal, 1e-15));
     EXPECT_EQ(a.fixed.plane->tolerance, b.fixed.plane->tolerance);
   }
+  ASSERT_EQ(a.initial_velocity.has_value(), b.initial_velocity.has_value());
+  if (a.initial_velocity) {
+    EXPECT_EQ(a.initial_velocity->linear, b.initial_velocity->linear);
+    EXPECT_EQ(a.initial_velocity->angular, b.initial_velocity->angular);
+    EXPECT_EQ(a.initial_velocity->center, b.initial_velocity->center);
+  }
   ASSERT_EQ(a.grasp.has_value(), b.grasp.has_value());
   if (a.grasp) {
     EXPECT_EQ(a.grasp->center, b.grasp->center);
@@ -182,6 +189,7 @@ TEST_F(SceneLoader, LoadsAMinimalSceneWithDefaultsFilledIn) {
   ASSERT_TRUE(scene.fixed.box.has_value());
   EXPECT_EQ(scene.fixed.box->max, Eigen::Vector3d(0.1, 0.1, 0.0));
   EXPECT_FALSE(scene.fixed.plane.has_value());
+  EXPECT_FALSE(scene.initial_velocity.has_value());
   EXPECT_FALSE(scene.grasp.has_value());
   EXPECT_FALSE(scene.instrument.has_value());
   EXPECT_EQ(scene.limits.max_speed, 50.0);
@@ -203,6 +211,10 @@ TEST_F(SceneLoader, ReadsEveryKeyOfAFullScene) {
   ASSERT_TRUE(scene.fixed.plane.has_value());
   EXPECT_EQ(scene.fixed.plane->normal, Eigen::Vector3d::UnitX());  // normalised
   EXPECT_EQ(scene.fixed.plane->tolerance, 0.001);
+  ASSERT_TRUE(scene.initial_velocity.has_value());
+  EXPECT_EQ(scene.initial_velocity->linear, Eigen::Vector3d(0.1, 0.0, -0.2));
+  EXPECT_EQ(scene.initial_velocity->angular, Eigen::Vector3d(0.0, 0.0, 3.0));
+  EXPECT_EQ(scene.initial_velocity->center, Eigen::Vector3d(0.05, 0.05, 0.0));
   ASSERT_TRUE(scene.grasp.has_value());
   EXPECT_EQ(scene.grasp->radius, 0.02);
   EXPECT_EQ(scene.grasp->start, 0.5);
@@ -263,8 +275,53 @@ TEST_F(SceneLoader, EchoesTheEffectiveSceneWithDefaults) {
             nlohmann::json::parse(R"({"max_speed": 50.0, "max_displacement": 10.0})"));
   EXPECT_EQ(json["fixed"]["vertices"], nlohmann::json::array());
   EXPECT_EQ(json["models"], nlohmann::json::object());
+  EXPECT_FALSE(json.contains("initial_velocity"));  // absent, as the scene wrote it
   EXPECT_FALSE(json.contains("grasp"));
   EXPECT_FALSE(json.contains("instrument"));
+}
+
+TEST_F(SceneLoader, AcceptsAFreeBodyWithoutAFixedRegion) {
+  for (const char* patch : {R"({"fixed": null})", R"({"fixed": {"box": null}})",
+                            R"({"fixed": {"box": null, "vertices": []}})"}) {
+    const Scene scene = load(patch);
+    EXPECT_TRUE(scene.fixed.vertices.empty()) << patch;
+    EXPECT_FALSE(scene.fixed.box.has_value()) << patch;
+    EXPECT_FALSE(scene.fixed.plane.has_value()) << patch;
+    EXPECT_EQ(to_json(scene)["fixed"], nlohmann::json::parse(R"({"vertices": []})")) << patch;
+    expect_same_scene(parse_scene(to_json(scene), scene.source), scene);
+  }
+}
+
+TEST_F(SceneLoader, ReadsAnInitialVelocityWithItsDefaults) {
+  const Scene scene = load(R"({"initial_velocity": {"angular": [0, 0, 3]}})");
+  ASSERT_TRUE(scene.initial_velocity.has_value());
+  EXPECT_EQ(scene.initial_velocity->linear, Eigen::Vector3d::Zero());
+  EXPECT_EQ(scene.initial_velocity->angular, Eigen::Vector3d(0.0, 0.0, 3.0));
+  EXPECT_FALSE(scene.initial_velocity->center.has_value());  // the centre of mass, with the mesh
+  const nlohmann::json json = to_json(scene);
+  EXPECT_EQ(json["initial_velocity"],
+            nlohmann::json::parse(R"({"linear": [0.0, 0.0, 0.0], "angular": [0.0, 0.0, 3.0]})"));
+  expect_same_scene(parse_scene(json, scene.source), scene);
+  EXPECT_EQ(load(R"({"initial_velocity": {"linear": [1, 2, 3]}})").initial_velocity->angular,
+            Eigen::Vector3d::Zero());
+}
+
+TEST_F(SceneLoader, RejectsAnInitialVelocityWithNeitherLinearNorAngular) {
+  EXPECT_EQ(error_for(R"({"initial_velocity": {"center": [0, 0, 0]}})"),
+            "/initial_velocity: expected at least one of \"linear\", \"angular\", got "
+            "{\"center\":[0,0,0]}");
+}
+
+TEST_F(SceneLoader, RejectsAnUnknownKeyInTheInitialVelocity) {
+  EXPECT_EQ(error_for(R"({"initial_velocity": {"omega": [0, 0, 3]}})"),
+            "/initial_velocity/omega: unknown key (known here: angular, center, linear)");
+}
+
+TEST_F(SceneLoader, RejectsAnInitialAngularVelocityThatIsNotAVector) {
+  EXPECT_EQ(error_for(R"({"initial_velocity": {"angular": [0, 3]}})"),
+            "/initial_velocity/angular: expected [x, y, z] (three finite numbers), got [0,3]");
+  EXPECT_EQ(error_for(R"({"initial_velocity": [0, 0, 3]})"),
+            "/initial_velocity: expected an object, got [0,0,3]");
 }
 
 TEST_F(SceneLoader, RoundTripsAFullSceneThroughToJson) {
@@ -292,8 +349,9 @@ TEST_F(SceneLoader, RejectsNegativeYoungModulus) {
 
 TEST_F(SceneLoader, RejectsAnUnknownTopLevelKey) {
   EXPECT_EQ(error_for(R"({"gravty": [0, 0, -9.81]})"),
-            "/gravty: unknown key (known here: description, fixed, grasp, gravity, instrument, "
-            "limits, material, mesh, models, name, requirements, time)");
+            "/gravty: unknown key (known here: description, fixed, grasp, gravity, "
+            "initial_velocity, instrument, limits, material, mesh, models, name, requirements, "
+            "time)");
 }
 
 TEST_F(SceneLoader, RejectsAnUnknownNestedKey) {
@@ -388,11 +446,6 @@ TEST_F(SceneLoader, RejectsAGraspReleasedBeforeItStarts) {
 TEST_F(SceneLoader, RejectsAZeroGraspRadius) {
   EXPECT_EQ(error_for(R"({"grasp": {"center": [0, 0, 0], "radius": 0}})"),
             "/grasp/radius: expected a number > 0, got 0");
-}
-
-TEST_F(SceneLoader, RejectsAFixedRegionWithNothingInIt) {
-  EXPECT_EQ(error_for(R"({"fixed": {"box": null}})"),
-            "/fixed: expected at least one of \"vertices\", \"box\", \"plane\", got {}");
 }
 
 TEST_F(SceneLoader, RejectsABoxWithMinAboveMax) {

@@ -109,12 +109,50 @@ TEST(FixedVertices, RejectsAListedIndexOutOfRangeNamingItsPointer) {
             "(scenes/box.msh has 27 vertices), got 27");
 }
 
-TEST(FixedVertices, RejectsARegionThatSelectsNothing) {
+TEST(FixedVertices, AreNoneForAFreeBody) {
+  Scene scene = box_scene();
+  EXPECT_TRUE(fixed_vertices(scene, box_mesh()).empty());
+  scene.fixed.box = Box{{1.0, 1.0, 1.0}, {2.0, 2.0, 2.0}};  // misses the mesh
+  EXPECT_TRUE(fixed_vertices(scene, box_mesh()).empty());
+}
+
+TEST(RequiredFixedVertices, RejectsARegionThatSelectsNothingNamingTheCommand) {
   Scene scene = box_scene();
   scene.fixed.box = Box{{1.0, 1.0, 1.0}, {2.0, 2.0, 2.0}};  // metres given as decimetres
-  EXPECT_EQ(error_of([&] { fixed_vertices(scene, box_mesh()); }),
+  EXPECT_EQ(error_of([&] { required_fixed_vertices(scene, box_mesh(), "calibrate", "why"); }),
             "scenes/box.json: /fixed: selects no vertex of scenes/box.msh (its vertices span "
-            "[0, 0, 0] to [0.1, 0.1, 0.1])");
+            "[0, 0, 0] to [0.1, 0.1, 0.1]); calibrate needs a fixed region: why");
+  scene.fixed = {};
+  EXPECT_EQ(error_of([&] { required_fixed_vertices(scene, box_mesh(), "calibrate", "why"); }),
+            "scenes/box.json: /fixed: absent (a free body); calibrate needs a fixed region: why");
+  scene.fixed.vertices = {4, 2};
+  EXPECT_EQ(required_fixed_vertices(scene, box_mesh(), "calibrate", "why"),
+            (std::vector<int>{2, 4}));
+}
+
+TEST(InitialVelocities, AreZeroWithoutAnInitialVelocity) {
+  const Eigen::Matrix3Xd velocities = initial_velocities(box_scene(), box_mesh());
+  EXPECT_EQ(velocities.cols(), 27);
+  EXPECT_TRUE(velocities.isZero(0.0));
+}
+
+TEST(InitialVelocities, SpinAboutTheCentreOfMassByDefault) {
+  Scene scene = box_scene();
+  scene.initial_velocity = InitialVelocity{{0.1, 0.0, 0.0}, {0.0, 0.0, 2.0}, std::nullopt};
+  EXPECT_TRUE(rest_centre_of_mass(box_mesh()).isApprox(Eigen::Vector3d(0.05, 0.05, 0.05), 1e-15));
+  const Eigen::Matrix3Xd velocities = initial_velocities(scene, box_mesh());
+  // Vertex 13 is the centre; vertex 0 at (0, 0, 0) is (-0.05, -0.05, -0.05) from it.
+  EXPECT_TRUE(velocities.col(13).isApprox(Eigen::Vector3d(0.1, 0.0, 0.0), 1e-14));
+  EXPECT_TRUE(
+      velocities.col(grid_vertex(0, 0, 0)).isApprox(Eigen::Vector3d(0.1 + 0.1, -0.1, 0.0), 1e-14));
+  // About a given center instead, with the fixed vertices at rest.
+  scene.initial_velocity->center = Eigen::Vector3d::Zero();
+  scene.fixed.vertices = {13};
+  const Eigen::Matrix3Xd about_origin = initial_velocities(scene, box_mesh());
+  EXPECT_EQ(about_origin.col(13), Eigen::Vector3d::Zero());
+  EXPECT_EQ(about_origin.col(grid_vertex(0, 0, 0)), Eigen::Vector3d(0.1, 0.0, 0.0));
+  EXPECT_TRUE(about_origin.col(grid_vertex(2, 0, 0))
+                  .isApprox(Eigen::Vector3d(0.1, 0.2, 0.0), 1e-14));  // 2 rad/s x 0.1 m
 }
 
 TEST(GraspedVertices, SelectsSurfaceVerticesWithinTheRadius) {
