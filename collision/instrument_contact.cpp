@@ -113,6 +113,8 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
   require_closed(instrument.triangles, instrument.num_vertices(), "instrument mesh");
   const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
   pressed_.assign(vertices, 0);
+  dropped_.assign(vertices, 0);
+  targeted_.assign(vertices, 0);
   has_move_.assign(vertices, 0);
   last_push_.assign(vertices, Eigen::Vector3d::Zero());
   move_.assign(vertices, Eigen::Vector3d::Zero());
@@ -250,6 +252,10 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
           pairs_);
   report_.triangle_pairs = static_cast<int>(pairs_.size());
 
+  for (const int vertex : dropped_vertices_) {
+    dropped_[static_cast<std::size_t>(vertex)] = 0;
+  }
+  dropped_vertices_.clear();
   moved_.clear();
   resolve_tissue_vertices(pose, positions);
   resolve_instrument_vertices();
@@ -264,6 +270,59 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
     has_move_[v] = 0;
   }
   return targets_;
+}
+
+// A target on the instrument's surface (plus the margin): a tissue vertex's own contact, not a
+// corner of a triangle an instrument point pushes (whose hold is judged over the triangle).
+bool InstrumentContact::on_surface(const Eigen::Isometry3d& pose,
+                                   const VertexTarget& target) const {
+  const double gap = instrument_distance(pose, target.target) - options_.margin;
+  return std::abs(gap) <= 1e-3 * options_.margin;
+}
+
+bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
+                               const Eigen::Matrix3Xd& positions,
+                               const Eigen::Matrix3Xd& forces) {
+  bool changed = false;
+  // Drop the holds that pulled: the tissue there moves away from the instrument by itself.
+  std::size_t kept = 0;
+  for (const VertexTarget& target : targets_) {
+    if (forces.col(target.vertex).dot(target.push) < 0.0 && on_surface(pose, target)) {
+      dropped_[static_cast<std::size_t>(target.vertex)] = 1;
+      dropped_vertices_.push_back(target.vertex);
+      changed = true;
+    } else {
+      targets_[kept++] = target;
+    }
+  }
+  targets_.resize(kept);
+  // Hold the surface vertices that ended inside: where the step would have put them, projected
+  // out of the instrument along its surface normal.
+  for (const VertexTarget& target : targets_) {
+    targeted_[static_cast<std::size_t>(target.vertex)] = 1;
+  }
+  const double margin = options_.margin;
+  const Aabb reach = inflated(instrument_tree_.nodes().front().box, margin);
+  const Eigen::Isometry3d to_local = pose.inverse();
+  for (const int vertex : surface_vertices_) {
+    const auto v = static_cast<std::size_t>(vertex);
+    if (targeted_[v] != 0 || dropped_[v] != 0 || !reach.contains(positions.col(vertex))) {
+      continue;
+    }
+    const Eigen::Vector3d local = to_local * positions.col(vertex);
+    const MeshDistance::Nearest nearest = instrument_distance_.nearest(local);
+    if (nearest.signed_distance >= 0.0) {
+      continue;
+    }
+    const Eigen::Vector3d out_local = direction(local, nearest.point, nearest.normal);
+    targets_.push_back(
+        {vertex, pose * (nearest.point + margin * out_local), pose.linear() * out_local});
+    changed = true;
+  }
+  for (const VertexTarget& target : targets_) {
+    targeted_[static_cast<std::size_t>(target.vertex)] = 0;
+  }
+  return changed;
 }
 
 ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,

@@ -19,6 +19,9 @@
 // force pressed the tissue away from the instrument (an active set); a pressed vertex the
 // instrument withdraws from along the contact normal follows it while it presses (implicit
 // models spring back within a step), and is let go, not pulled, once its force turns adhesive.
+// Within the step, refine() settles that active set: after the body was stepped, a tissue
+// vertex's hold whose force pulled is dropped and a vertex that ended inside the instrument is
+// held on its surface, and the harness repeats the step from its start (SceneStepper::step).
 // The tissue and instrument BVHs are refitted and queried for intersecting triangle pairs every
 // step as well: that count is the thesis's measure of contact (table 4.2).
 #pragma once
@@ -78,6 +81,18 @@ class InstrumentContact {
                                            double dt,
                                            const Eigen::Matrix3Xd& last_forces);
 
+  /// The active set's correction within a step, after the body was stepped with resolve()'s
+  /// targets (and earlier corrections) to `positions` with `forces` (3 x #V, N) on its
+  /// constraints: a target whose force pulls the tissue toward the instrument is dropped (no
+  /// contact is adhesive), and a surface vertex that ended inside the instrument at `pose`, not
+  /// dropped this step, gets a target on its surface plus the margin. Returns whether the targets
+  /// changed (then the caller repeats the step from its start with them).
+  bool refine(const Eigen::Isometry3d& pose,
+              const Eigen::Matrix3Xd& positions,
+              const Eigen::Matrix3Xd& forces);
+  /// The current targets (resolve()'s, as refine() changed them).
+  const std::vector<VertexTarget>& targets() const { return targets_; }
+
   /// Penetration of the tissue at `positions` by the instrument at `pose`, without resolving
   /// (for metrics after a step): fills the returned report's vertex counts and
   /// max_penetration.
@@ -94,6 +109,11 @@ class InstrumentContact {
   void resolve_instrument_vertices();
   void propose(int vertex, const Eigen::Vector3d& move, const Eigen::Vector3d& from);
   bool was_pressed(int vertex) const;
+  bool on_surface(const Eigen::Isometry3d& pose, const VertexTarget& target) const;
+  /// Per tissue vertex: 1 once refine() dropped its target this step (it is not taken again).
+  std::vector<char> dropped_;
+  std::vector<char> targeted_;  ///< per tissue vertex: 1 while it has a target (refine's scratch)
+  std::vector<int> dropped_vertices_;  ///< where dropped_ is set, to clear it at the next step
   bool follows_withdrawal(int vertex,
                           const Eigen::Vector3d& local_point,
                           const Eigen::Isometry3d& pose) const;

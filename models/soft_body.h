@@ -69,6 +69,11 @@ class SoftBody {
   /// constraint_forces() still reports the last step. Throws std::invalid_argument for another
   /// shape or a NaN/Inf (check_velocities).
   virtual void set_velocities(const Eigen::Matrix3Xd& velocities) = 0;
+  /// Puts the body back in a state it had (3 x #V each, finite): the harness repeats a step
+  /// from its start with other constraints (the instrument contact's active set). Caches such as
+  /// solver warm starts keep their values (guesses, not state); constraint_forces() still
+  /// reports the last step. Throws std::invalid_argument as set_velocities() does.
+  virtual void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) = 0;
 
   /// N (3 x #V): the force each constraint of the last step exerted on its vertex; zero at
   /// unconstrained vertices. At static equilibrium they balance the external loads.

@@ -93,21 +93,41 @@ std::span<const PositionConstraint> Loading::constraints(double start,
     for (const PositionConstraint& constraint : constraints_) {
       held_[static_cast<std::size_t>(constraint.vertex)] = 1;
     }
-    const std::size_t held = constraints_.size();
-    const Eigen::Isometry3d pose = scenes::instrument_pose(*scene_.instrument, end);
-    for (const collision::VertexTarget& target :
-         contact_->resolve(pose, positions, velocities, dt, last_forces)) {
-      if (held_[static_cast<std::size_t>(target.vertex)] == 0) {
-        constraints_.push_back({target.vertex, target.target});
-        loaded_.push_back(target.vertex);
-      }
-    }
-    for (std::size_t k = 0; k < held; ++k) {
-      held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;
-    }
+    held_constraints_ = constraints_.size();
+    held_loaded_ = loaded_.size();
+    end_pose_ = scenes::instrument_pose(*scene_.instrument, end);
+    contact_->resolve(end_pose_, positions, velocities, dt, last_forces);
+    add_contact_targets();
     max_triangle_pairs_ = std::max(max_triangle_pairs_, contact_->report().triangle_pairs);
   }
   return constraints_;
+}
+
+void Loading::add_contact_targets() {
+  // The fixed region and the grasp win over contact.
+  for (std::size_t k = 0; k < held_constraints_; ++k) {
+    held_[static_cast<std::size_t>(constraints_[k].vertex)] = 1;
+  }
+  constraints_.resize(held_constraints_);
+  loaded_.resize(held_loaded_);
+  for (const collision::VertexTarget& target : contact_->targets()) {
+    if (held_[static_cast<std::size_t>(target.vertex)] == 0) {
+      constraints_.push_back({target.vertex, target.target});
+      loaded_.push_back(target.vertex);
+    }
+  }
+  for (std::size_t k = 0; k < held_constraints_; ++k) {
+    held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;
+  }
+}
+
+std::optional<std::span<const PositionConstraint>> Loading::refine(
+    const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces) {
+  if (!contact_ || !contact_->refine(end_pose_, positions, forces)) {
+    return std::nullopt;
+  }
+  add_contact_targets();
+  return std::span<const PositionConstraint>(constraints_);
 }
 
 void Loading::observe(double end,

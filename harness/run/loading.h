@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -37,6 +38,12 @@ class Loading {
 
   /// After the step ending at `end`: the tool force from the step's constraint forces, and the
   /// contact measures (penetration, vertices that lost contact) at the step's end.
+  /// After the step was taken with constraints()'s constraints (or the last refine()'s), to
+  /// `positions` with `forces` on its constraints: the instrument contact's active-set
+  /// correction (collision::InstrumentContact::refine). The new constraints when it changed
+  /// them (the caller repeats the step from its start with them), else none.
+  std::optional<std::span<const PositionConstraint>> refine(const Eigen::Matrix3Xd& positions,
+                                                            const Eigen::Matrix3Xd& forces);
   void observe(double end, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces);
 
   double tool_displacement() const { return tool_displacement_; }  ///< m, at the last observe
@@ -60,8 +67,13 @@ class Loading {
   Eigen::Matrix3Xd grasp_anchor_;  ///< grasped vertices where grasped: world (grasp) or tool frame
   std::unique_ptr<collision::InstrumentContact> contact_;
   std::vector<PositionConstraint> constraints_;
-  std::vector<int> loaded_;       ///< vertices whose constraint forces act on the tool
-  std::vector<char> held_;        ///< per vertex: fixed or grasped this step (scratch)
+  std::vector<int> loaded_;           ///< vertices whose constraint forces act on the tool
+  std::vector<char> held_;            ///< per vertex: fixed or grasped this step (scratch)
+  std::size_t held_constraints_ = 0;  ///< constraints_ before the contact's: fixed, grasp
+  std::size_t held_loaded_ = 0;       ///< loaded_ before the contact's
+  Eigen::Isometry3d end_pose_ = Eigen::Isometry3d::Identity();  ///< the instrument this step
+
+  void add_contact_targets();
   std::vector<bool> in_contact_;  ///< per vertex: pressed by the instrument at the last step
   std::vector<bool> lost_;        ///< per vertex: lost contact while the instrument pressed
   double tool_displacement_ = 0.0;

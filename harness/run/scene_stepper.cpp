@@ -3,6 +3,8 @@
 
 #include "scenes/scene_regions.h"
 
+#include <chrono>
+
 namespace softbench::harness {
 
 SceneStepper::SceneStepper(const scenes::Scene& scene, const SceneMesh& mesh)
@@ -36,6 +38,46 @@ StepInput SceneStepper::input(int step, const SoftBody& body) {
   input.constraints =
       loading_.constraints(start, scene_.dt, body.positions(), body.velocities(), forces_);
   return input;
+}
+
+StepStats SceneStepper::step(int step, SoftBody& body, double* model_seconds) {
+  using Clock = std::chrono::steady_clock;
+  StepInput in = input(step, body);
+  const bool contact = scene_.instrument.has_value();
+  if (contact) {
+    start_positions_ = body.positions();
+    start_velocities_ = body.velocities();
+  }
+  double seconds = 0.0;
+  const auto timed_step = [&] {
+    const Clock::time_point before = Clock::now();
+    const StepStats stats = body.step(scene_.dt, in);
+    seconds += std::chrono::duration<double>(Clock::now() - before).count();
+    return stats;
+  };
+  StepStats stats = timed_step();
+  // The contact's active set: repeat the step from its start while it drops a pulling hold or
+  // holds a vertex that ended inside the instrument. Every pass's solver work is counted.
+  for (int pass = 1; contact && stats.finite && pass < kContactPasses; ++pass) {
+    const auto refined = loading_.refine(body.positions(), body.constraint_forces());
+    if (!refined) {
+      break;
+    }
+    body.set_state(start_positions_, start_velocities_);
+    in.constraints = *refined;
+    const StepStats again = timed_step();
+    stats.iterations += again.iterations;
+    stats.factorizations += again.factorizations;
+    stats.linear_solves += again.linear_solves;
+    stats.residual = again.residual;
+    stats.max_constraint_error = again.max_constraint_error;
+    stats.finite = again.finite;
+  }
+  constraints_ = in.constraints;
+  if (model_seconds != nullptr) {
+    *model_seconds = seconds;
+  }
+  return stats;
 }
 
 void SceneStepper::observe(int step, const SoftBody& body) {

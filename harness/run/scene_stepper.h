@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <optional>
+#include <span>
 
 namespace softbench::harness {
 
@@ -27,6 +28,19 @@ class SceneStepper {
   /// (scenes::initial_velocities). A scene without one leaves the body untouched, so its runs
   /// are bit for bit what they were.
   void start(SoftBody& body) const;
+
+  /// Most times one step is taken: the first pass and the instrument contact's active-set
+  /// corrections (a pass adds or drops holds; the contact settles in one or two).
+  static constexpr int kContactPasses = 4;
+
+  /// Takes step `step` (from t = step dt) of the body under the scene's loading (input()), and
+  /// with an instrument repeats it from its start while the contact's active set changes
+  /// (Loading::refine): no hold pulls, no vertex ends inside the instrument, within
+  /// kContactPasses. `model_seconds` (if given) gets the time spent in the body's step()
+  /// over all passes. The step's constraints are then constraints().
+  StepStats step(int step, SoftBody& body, double* model_seconds = nullptr);
+  /// The constraints the last step() ended with.
+  std::span<const PositionConstraint> constraints() const { return constraints_; }
 
   /// The input for step `step` (from t = step dt) from the body at the step's start; captures
   /// the recovery's reference shape when the step starts at the scene's reference time.
@@ -49,6 +63,9 @@ class SceneStepper {
   RecoveryTracker recovery_;
   Eigen::Matrix3Xd reference_;
   bool have_reference_ = false;
+  Eigen::Matrix3Xd start_positions_;  ///< the body at the step's start (contact passes)
+  Eigen::Matrix3Xd start_velocities_;
+  std::span<const PositionConstraint> constraints_;
 };
 
 }  // namespace softbench::harness

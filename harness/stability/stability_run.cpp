@@ -195,8 +195,8 @@ RunVerdict run_scene_loading(SoftBody& body,
   stepper.start(body);
   for (int step = 0; step < steps; ++step) {
     const double start = step * scene.dt;
-    const StepInput input = stepper.input(step, body);
-    if (!monitor.after_step(step, body.step(scene.dt, input), body, input.constraints, false)) {
+    const StepStats stats = stepper.step(step, body);
+    if (!monitor.after_step(step, stats, body, stepper.constraints(), false)) {
       break;
     }
     stepper.observe(step, body);

@@ -188,6 +188,18 @@ void BulletBody::set_velocities(const Eigen::Matrix3Xd& velocities) {
   }
 }
 
+void BulletBody::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) {
+  check_velocities(positions);
+  positions_ = positions;
+  btSoftBody& body = world_->body();
+  for (int i = 0; i < body.m_nodes.size(); ++i) {
+    btSoftBody::Node& node = body.m_nodes[i];
+    node.m_x = to_bullet(positions_.col(i));
+    node.m_q = node.m_x;
+  }
+  set_velocities(velocities);
+}
+
 Eigen::Matrix3Xd BulletBody::constraint_forces() const {
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, positions_.cols());
   if (!last_.taken || diverged_) {

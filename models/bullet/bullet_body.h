@@ -112,6 +112,7 @@ class BulletBody final : public SoftBody {
   /// velocities before it move by the same change, so constraint_forces() still reports that
   /// step. A diverged body stays diverged.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
+  void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
   Eigen::Matrix3Xd constraint_forces() const override;
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;

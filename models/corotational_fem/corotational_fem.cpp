@@ -146,6 +146,14 @@ void CorotationalFemModel::reset() {
   }
 }
 
+void CorotationalFemModel::set_state(const Eigen::Matrix3Xd& positions,
+                                     const Eigen::Matrix3Xd& velocities) {
+  check_velocities(positions);
+  check_velocities(velocities);
+  positions_ = positions;
+  velocities_ = velocities;
+}
+
 void CorotationalFemModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   velocities_ = velocities;
@@ -178,12 +186,6 @@ std::size_t CorotationalFemModel::memory_bytes() const {
          + bytes_of_elements(element_gradients_) + constraints_.memory_bytes()
          + pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes()
          + bytes_of(known_changes_) + bytes_of(rhs_) + bytes_of(velocity_change_);
-}
-
-void CorotationalFemModel::set_state(const Eigen::Matrix3Xd& positions,
-                                     const Eigen::Matrix3Xd& velocities) {
-  positions_ = positions;
-  velocities_ = velocities;
 }
 
 Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {

@@ -59,6 +59,7 @@ class CorotationalFemModel final : public SoftBody {
   /// Also drops the solve's warm start (the last dv, made for the old velocities); the element
   /// rotations' warm starts depend on the positions only and are kept.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
+  void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
   Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
   /// At the current positions, with the exact polar rotation (SVD) whatever `rotation` is, so
   /// it is a function of the positions alone.
@@ -70,8 +71,6 @@ class CorotationalFemModel final : public SoftBody {
 
   // The pieces of a step, for tests.
 
-  /// Sets positions and velocities (3 x #V each); the element rotations are kept.
-  void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities);
   /// F of every element at the current positions and, unless `hold_rotations`, its rotation R
   /// (a step's first phase; holding R is the warped-stiffness tangent's assumption).
   void update_deformations(bool hold_rotations = false);

@@ -128,6 +128,14 @@ void MassSpringModel::reset() {
   }
 }
 
+void MassSpringModel::set_state(const Eigen::Matrix3Xd& positions,
+                                const Eigen::Matrix3Xd& velocities) {
+  check_velocities(positions);
+  check_velocities(velocities);
+  positions_ = positions;
+  velocities_ = velocities;
+}
+
 void MassSpringModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   velocities_ = velocities;

@@ -82,6 +82,14 @@ void NeoHookeanModel::reset() {
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
 }
 
+void NeoHookeanModel::set_state(const Eigen::Matrix3Xd& positions,
+                                const Eigen::Matrix3Xd& velocities) {
+  check_velocities(positions);
+  check_velocities(velocities);
+  positions_ = positions;
+  velocities_ = velocities;
+}
+
 void NeoHookeanModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   velocities_ = velocities;
@@ -107,12 +115,6 @@ std::size_t NeoHookeanModel::memory_bytes() const {
          + pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes()
          + bytes_of(previous_) + bytes_of(predicted_) + bytes_of(trial_) + bytes_of(gradient_)
          + bytes_of(zero_change_) + bytes_of(rhs_) + bytes_of(newton_step_);
-}
-
-void NeoHookeanModel::set_state(const Eigen::Matrix3Xd& positions,
-                                const Eigen::Matrix3Xd& velocities) {
-  positions_ = positions;
-  velocities_ = velocities;
 }
 
 Eigen::Matrix3Xd NeoHookeanModel::elastic_gradient() {

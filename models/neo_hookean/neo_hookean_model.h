@@ -46,6 +46,7 @@ class NeoHookeanModel final : public SoftBody {
   const Eigen::Matrix3Xd& velocities() const override { return velocities_; }
   /// A step predicts x + dt v from them and keeps no other velocity state.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
+  void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
   Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
   /// sum_e V_e Psi(F_e) at the current positions, J (zero at rest and for rigid motions).
   double elastic_energy() const override;
@@ -53,8 +54,6 @@ class NeoHookeanModel final : public SoftBody {
 
   // For tests.
 
-  /// Sets positions and velocities (3 x #V each).
-  void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities);
   /// d(elastic_energy)/dx at the current positions (3 x #V, N): the negated elastic forces.
   Eigen::Matrix3Xd elastic_gradient();
   /// d^2(elastic_energy)/dx^2 (3#V x 3#V, N/m), element Hessians projected to PSD or not,

@@ -62,6 +62,14 @@ void ShapeMatchingModel::reset() {
   matcher_.reset();
 }
 
+void ShapeMatchingModel::set_state(const Eigen::Matrix3Xd& positions,
+                                   const Eigen::Matrix3Xd& velocities) {
+  check_velocities(positions);
+  check_velocities(velocities);
+  positions_ = positions;
+  velocities_ = velocities;
+}
+
 void ShapeMatchingModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   velocities_ = velocities;
