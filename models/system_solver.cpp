@@ -4,6 +4,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -143,10 +144,16 @@ class ChunkedVectors {
 };
 
 /// Preconditioned CG on preallocated vectors (Eigen's ConjugateGradient allocates its work
-/// vectors on every solve). The stopping test and the reported residual follow Eigen's: the
-/// recursively updated residual against tolerance |b|.
+/// vectors on every solve), stopped by the estimated energy-norm error (LinearSolverOptions::
+/// tolerance). The reported residual is the recursively updated one, relative to |b|.
 class PcgIterations {
  public:
+  /// Iterations the error estimate sums over: its delay. The sum of alpha_j r_j.z_j over
+  /// iterations k..k+d-1 is a lower bound of |x - x_k|^2_A that tightens as d grows; with CG's
+  /// usual convergence, 4 already gives the right magnitude. The stop comes d iterations after
+  /// the iterate it judges (a conservative stop: the error only falls).
+  static constexpr int kErrorDelay = 4;
+
   explicit PcgIterations(const BlockPattern& pattern)
       : vectors_(pattern),
         residual_(pattern.size()),
@@ -154,11 +161,13 @@ class PcgIterations {
         direction_(pattern.size()),
         product_(pattern.size()) {}
 
-  /// `precondition(r, z)` sets z = M^-1 r. Returns the iterations and |r| / |b|.
+  /// `precondition(r, z)` sets z = M^-1 r. Returns the iterations, |r| / |b| and the estimated
+  /// relative error.
   template <class Preconditioner>
   SolveReport run(const BlockPattern& a,
                   const Eigen::VectorXd& b,
                   Eigen::VectorXd& x,
+                  const double* offset,
                   double tolerance,
                   int max_iterations,
                   const Preconditioner& precondition) {
@@ -182,7 +191,16 @@ class PcgIterations {
       x.setZero();
       return report;
     }
-    const double threshold = tolerance * rhs_norm;
+    // |offset + x0|^2_A, the energy the error is measured against (one product).
+    double reference_energy = 0.0;
+    if (offset != nullptr) {
+      direction_ = Eigen::Map<const Eigen::VectorXd>(offset, x.size()) + x;
+      a.multiply(direction_, product_);
+      reference_energy = std::max(0.0, direction_.dot(product_));
+    }
+    double change_energy = 0.0;                // |x_k - x0|^2_A, summed as CG goes
+    std::array<double, kErrorDelay> window{};  // the last alpha_j r_j.z_j
+    double window_sum = 0.0;
 
     a.multiply(x, product_);
     double residual_norm =
@@ -194,7 +212,8 @@ class PcgIterations {
           }
           return sum;
         }));
-    if (residual_norm > threshold) {
+    report.converged = residual_norm == 0.0;
+    if (!report.converged) {
       precondition(residual_, preconditioned_);
       double rz = vectors_.for_each_chunk([r, z, p](Eigen::Index begin, Eigen::Index end) {
         double sum = 0.0;
@@ -212,6 +231,11 @@ class PcgIterations {
           break;  // not positive definite, or NaN: stop with what we have
         }
         const double alpha = rz / curvature;
+        const double term = alpha * rz;
+        change_energy += term;
+        const auto slot = static_cast<std::size_t>(report.iterations % kErrorDelay);
+        window_sum += term - window[slot];
+        window[slot] = term;
         residual_norm = std::sqrt(
             vectors_.for_each_chunk([alpha, xs, r, p, q](Eigen::Index begin, Eigen::Index end) {
               double sum = 0.0;
@@ -222,7 +246,14 @@ class PcgIterations {
               }
               return sum;
             }));
-        if (residual_norm <= threshold) {
+        const double scale = std::max(reference_energy, change_energy);
+        report.error = scale > 0.0 ? std::sqrt(std::max(0.0, window_sum) / scale) : 0.0;
+        // Converged, or at round-off: a residual this small leaves nothing to gain (an exact
+        // preconditioner gets there in one iteration, before the estimate has its window).
+        constexpr double kRoundoff = 1e-14;
+        if (residual_norm <= kRoundoff * rhs_norm
+            || (report.iterations >= kErrorDelay && report.error <= tolerance)) {
+          report.converged = true;
           break;
         }
         precondition(residual_, preconditioned_);
@@ -268,7 +299,10 @@ class CholmodSolver final : public SystemSolver {
   explicit CholmodSolver(const BlockPattern& pattern)
       : factor_(pattern.matrix(), /*supernodal=*/true), product_(pattern.size()) {}
 
-  SolveReport solve(const BlockPattern& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+  SolveReport solve(const BlockPattern& a,
+                    const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x,
+                    const double* /*offset: an exact solve needs none*/) override {
     SolveReport report;
     report.factorizations = 1;
     if (!factor_.factorize(a.matrix())) {
@@ -299,7 +333,10 @@ class ConjugateGradientSolver final : public SystemSolver {
   ConjugateGradientSolver(const LinearSolverOptions& options, const BlockPattern& pattern)
       : options_(options), iterations_(pattern), inverse_diagonal_(pattern.size()) {}
 
-  SolveReport solve(const BlockPattern& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+  SolveReport solve(const BlockPattern& a,
+                    const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x,
+                    const double* offset) override {
     const double* values = a.matrix().valuePtr();
     for (int v = 0; v < a.num_vertices(); ++v) {
       const BlockEntries& diagonal = a.vertex_block(v);
@@ -309,7 +346,7 @@ class ConjugateGradientSolver final : public SystemSolver {
         inverse_diagonal_(3 * v + k) = entry != 0.0 ? 1.0 / entry : 1.0;
       }
     }
-    return iterations_.run(a, b, x, options_.tolerance, options_.max_iterations,
+    return iterations_.run(a, b, x, offset, options_.tolerance, options_.max_iterations,
                            [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
                              z = inverse_diagonal_.cwiseProduct(r);
                            });
@@ -336,7 +373,10 @@ class CholeskyPcgSolver final : public SystemSolver {
   CholeskyPcgSolver(const LinearSolverOptions& options, const BlockPattern& pattern)
       : options_(options), factor_(pattern.matrix(), /*supernodal=*/true), iterations_(pattern) {}
 
-  SolveReport solve(const BlockPattern& a, const Eigen::VectorXd& b, Eigen::VectorXd& x) override {
+  SolveReport solve(const BlockPattern& a,
+                    const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x,
+                    const double* offset) override {
     int factorizations = 0;
     if (stale_) {
       if (!refactorize(a)) {
@@ -348,18 +388,21 @@ class CholeskyPcgSolver final : public SystemSolver {
       factor_.solve(r, z);
     };
     SolveReport report =
-        iterations_.run(a, b, x, options_.tolerance, options_.max_iterations, precondition);
-    if (report.residual > options_.tolerance && factorizations == 0) {
+        iterations_.run(a, b, x, offset, options_.tolerance, options_.max_iterations, precondition);
+    if (!report.converged && factorizations == 0) {
       // The old factor no longer preconditions this matrix: refactorise and continue from x.
       if (!refactorize(a)) {
         return failed(x);
       }
       ++factorizations;
       const int spent = report.iterations;
-      report = iterations_.run(a, b, x, options_.tolerance, options_.max_iterations, precondition);
+      report = iterations_.run(a, b, x, offset, options_.tolerance, options_.max_iterations,
+                               precondition);
       report.iterations += spent;
     }
-    stale_ = report.iterations > options_.refresh_iterations;
+    // The estimate's window (PcgIterations::kErrorDelay) is the stopping rule's cost, not the
+    // preconditioner's: it does not count against the factor.
+    stale_ = report.iterations - PcgIterations::kErrorDelay > options_.refresh_iterations;
     report.factorizations = factorizations;
     return report;
   }

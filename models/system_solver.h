@@ -26,8 +26,15 @@ struct LinearSolverOptions {
     kCholeskyPcg,
   };
   Kind kind = Kind::kConjugateGradient;
-  /// Iterative kinds: stop when |b - A x| <= tolerance |b|. Smaller: more accurate, more
-  /// iterations.
+  /// Iterative kinds: stop once the error's energy norm |x - x*|_A, estimated from the CG
+  /// coefficients (Hestenes and Stiefel's estimate over the last kErrorDelay iterations, Strakos
+  /// and Tichy 2002), is at most `tolerance` times the energy norm of what the solve is for:
+  /// |offset + x|_A with the caller's offset (the implicit models pass the velocities, so the
+  /// error is relative to the step's new velocity), and never less than the solve's own change
+  /// |x - x0|_A. A residual relative to |b| is no such measure: prescribed positions can dominate
+  /// b, a warm start can meet it with no iteration while the load has not reached the body, and
+  /// on an ill-conditioned system a small residual still allows a large error. Smaller: more
+  /// accurate, more iterations.
   double tolerance = 1e-6;
   /// Iterative kinds: cap per solve; a solve that hits it reports iterations == cap.
   int max_iterations = 200;
@@ -39,6 +46,9 @@ struct LinearSolverOptions {
 struct SolveReport {
   int iterations = 0;     ///< CG iterations (0 for kCholmod)
   double residual = 0.0;  ///< |A x - b| / |b| (|A x - b| when b = 0)
+  /// Iterative kinds: the estimated relative energy-norm error at the stop (0 for kCholmod).
+  double error = 0.0;
+  bool converged = true;  ///< false: an iterative solve hit max_iterations first
   int factorizations = 0;
   bool succeeded = true;  ///< false: a factorization failed (not SPD or not finite) or NaN
 };
@@ -51,10 +61,12 @@ class SystemSolver {
   SystemSolver& operator=(const SystemSolver&) = delete;
 
   /// `x` holds the initial guess on entry (used by iterative solvers) and the solution on exit.
-  /// Allocates nothing after the first call.
+  /// `offset` (b.size() values, or null: none) sets what the iterative stopping rule measures the
+  /// error against (LinearSolverOptions::tolerance). Allocates nothing after the first call.
   virtual SolveReport solve(const BlockPattern& a,
                             const Eigen::VectorXd& b,
-                            Eigen::VectorXd& x) = 0;
+                            Eigen::VectorXd& x,
+                            const double* offset) = 0;
   virtual std::size_t memory_bytes() const = 0;
 
  protected:

@@ -48,8 +48,10 @@ ParamTable<Params> make_param_table() {
               "Jacobi-PCG to cg_tolerance (fastest); \"cholesky_pcg\": PCG preconditioned by a "
               "Cholesky factor reused across steps, refreshed after a slow solve.")
       .number("cg_tolerance", &Params::cg_tolerance, Range{0.0, 1.0, false, false},
-              "iterative solvers: relative residual |r| / |b| at which they stop. Smaller: closer "
-              "to CHOLMOD, more iterations.")
+              "iterative solvers: the estimated energy-norm error of the step's new velocity, "
+              "relative, at which they stop. 1e-3 matches CHOLMOD within 0.03% on the liver press "
+              "(19 iterations a step); 1e-2 lets a contact's release slip by a step (7% RMS force "
+              "error). Smaller: closer to CHOLMOD, more iterations.")
       .integer("cg_max_iterations", &Params::cg_max_iterations, 1, kIntMax,
                "iterative solvers: cap on iterations per step; a step that hits it reports "
                "iterations == cap and its residual.")

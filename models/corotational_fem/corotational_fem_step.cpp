@@ -187,7 +187,7 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
   eliminate_exact_constraints(dt);
   clock.lap(&PhaseTimes::assembly);
 
-  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_);
+  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_, velocities_.data());
   clock.lap(&PhaseTimes::solve);
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);

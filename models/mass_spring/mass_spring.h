@@ -46,7 +46,7 @@ struct MassSpringParams {
   /// Implicit Euler only: CHOLMOD refactorises every step (exact); warm-started Jacobi-PCG
   /// stops at cg_tolerance (fast, approximate).
   LinearSolver solver = LinearSolver::kConjugateGradient;
-  double cg_tolerance = 1e-6;   ///< relative residual |r| / |b|
+  double cg_tolerance = 1e-6;   ///< relative energy-norm error (LinearSolverOptions::tolerance)
   int cg_max_iterations = 200;  ///< cap per step; hitting it is reported in StepStats
 };
 

@@ -185,7 +185,7 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
   compute_spring_linearization(dt);
   assemble_implicit_system(dt, input);
   eliminate_exact_constraints(dt);
-  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_);
+  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_, velocities_.data());
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
   compute_implicit_reactions(dt);

@@ -168,7 +168,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
     assemble_hessian(potential);
     rhs_ = -Eigen::Map<const Eigen::VectorXd>(gradient_.data(), pattern_->size());
     elimination_.eliminate(*pattern_, constraints_, zero_change_, rhs_, newton_step_);
-    SolveReport report = solver_->solve(*pattern_, rhs_, newton_step_);
+    SolveReport report = solver_->solve(*pattern_, rhs_, newton_step_, nullptr);
     stats.factorizations += report.factorizations;
     ++stats.linear_solves;
     if (!report.succeeded && !project && std::isfinite(energy.value)) {
@@ -177,7 +177,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
       evaluate_elements(positions_, Derivatives::kGradientAndProjectedHessian);
       assemble_hessian(potential);
       elimination_.eliminate(*pattern_, constraints_, zero_change_, rhs_, newton_step_);
-      report = solver_->solve(*pattern_, rhs_, newton_step_);
+      report = solver_->solve(*pattern_, rhs_, newton_step_, nullptr);
       stats.factorizations += report.factorizations;
       ++stats.linear_solves;
     }

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 namespace softbench::harness {
@@ -139,6 +140,29 @@ TEST_P(PhysicalModelPress, ExactSolvesLetTheWithdrawnToolGo) {
   EXPECT_EQ(run.shape.final_inverted_tets, 0);
   ASSERT_TRUE(run.recovery.measured);
   EXPECT_LT(run.recovery.residual, 0.01);
+}
+
+// The default iterative solver must give the answer of the exact one on a contact scene, where
+// prescribed positions dominate the system's right-hand side: the tool's force over the whole
+// press, hold and withdrawal within 1% (RMS, relative to the peak), and the same peak.
+TEST_P(PhysicalModelPress, DefaultSolverMatchesTheExactSolve) {
+  const ModelRun iterative = run_model();
+  const ModelRun exact = run_model({{"solver", "cholmod"}});
+  ASSERT_NE(iterative.params["solver"], "cholmod") << "the default is already exact";
+  ASSERT_TRUE(iterative.stability.stable && exact.stability.stable);
+  ASSERT_EQ(iterative.samples.size(), exact.samples.size());
+  const double peak = exact.contact.peak_tool_force;
+  ASSERT_GT(peak, 0.1);
+  double squares = 0.0;
+  for (std::size_t i = 0; i < exact.samples.size(); ++i) {
+    const double difference = iterative.samples[i].tool_force - exact.samples[i].tool_force;
+    squares += difference * difference;
+  }
+  const double rms = std::sqrt(squares / static_cast<double>(exact.samples.size()));
+  constexpr double kMatch = 0.01;  // of the peak force
+  EXPECT_LT(rms, kMatch * peak) << "RMS force difference " << rms << " N, peak " << peak << " N";
+  EXPECT_NEAR(iterative.contact.peak_tool_force, peak, kMatch * peak);
+  EXPECT_EQ(iterative.shape.max_inverted_tets, exact.shape.max_inverted_tets);
 }
 
 INSTANTIATE_TEST_SUITE_P(Models,
