@@ -122,7 +122,12 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
 void ShapeMatchingModel::pull(int vertex, double dt) {
   const PositionConstraint* constraint = constraints_.of(vertex);
   if (is_exact(constraint)) {
+    // Held on its target, it is denied the pull toward its goal that its clusters' fit gave
+    // it; holding it there takes the opposite of that pull's force, m alpha (p - g) / dt^2.
     squared_residuals_(vertex) = 0.0;
+    constraint_forces_.col(vertex) += masses_(vertex) * params_.alpha
+                                      * (predicted_.col(vertex) - matcher_.goal(vertex))
+                                      / (dt * dt);
     return;
   }
   const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - predicted_.col(vertex);

@@ -271,14 +271,6 @@ TEST_P(SoftBodyContract, OneAndTwoThreadsGiveBitIdenticalResults) {
 }
 
 TEST_P(SoftBodyContract, ReactionsBalanceTheWeightAtRest) {
-  if (GetParam() == "shape_matching") {
-    // Known defect: a held particle's reported reaction leaves out the pull its clusters' fit
-    // gives it and the hold denies, so shape matching reports only the held particles' own
-    // weight (1.33 N of 7.99 N here). Adding that term balances the weight to 1e-6, but lets the
-    // current instrument contact hold a vertex against a withdrawn tool; both change together
-    // with the contact's active set.
-    GTEST_SKIP() << "shape_matching's reactions omit the cluster pull at held particles";
-  }
   const auto body = create(with_settling_damping());
   const std::vector<PositionConstraint> pins = pin_min_x_face(small_box());
   StepInput input;
