@@ -155,6 +155,11 @@ Eigen::Matrix<double, 3, 2> bounding_box(const Eigen::Matrix3Xd& points) {
   return box;
 }
 
+double bounding_box_diagonal(const Eigen::Matrix3Xd& points) {
+  const Eigen::Matrix<double, 3, 2> box = bounding_box(points);
+  return (box.col(1) - box.col(0)).norm();
+}
+
 Eigen::VectorXd lumped_masses(const TetMesh& mesh, double density) {
   const Eigen::Matrix3Xd& x = mesh.rest_positions();
   const Eigen::Matrix4Xi& tets = mesh.tets();

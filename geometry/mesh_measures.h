@@ -24,6 +24,9 @@ double surface_area(const TriMesh& surface);
 
 /// Axis-aligned bounds of a point set (3 x #V): column 0 the minimum, column 1 the maximum.
 Eigen::Matrix<double, 3, 2> bounding_box(const Eigen::Matrix3Xd& points);
+/// Length of the bounding box's diagonal (m): the size a body's displacements and residuals are
+/// measured against. 0 for no point.
+double bounding_box_diagonal(const Eigen::Matrix3Xd& points);
 
 /// Lumped vertex masses (kg, #V): each tet's mass density * volume split equally among its four
 /// vertices. Sums to density * mesh_volume(mesh).

@@ -6,15 +6,28 @@
 
 namespace softbench {
 
+void SoftBody::check_field(const char* setter,
+                           const char* what,
+                           const Eigen::Matrix3Xd& field) const {
+  if (field.cols() != positions().cols()) {
+    throw std::invalid_argument(std::string(name()) + ": " + setter + ": expected 3 x "
+                                + std::to_string(positions().cols()) + " " + what + ", got 3 x "
+                                + std::to_string(field.cols()));
+  }
+  if (!field.allFinite()) {
+    throw std::invalid_argument(std::string(name()) + ": " + setter + ": a NaN or Inf in the "
+                                + what);
+  }
+}
+
 void SoftBody::check_velocities(const Eigen::Matrix3Xd& velocities) const {
-  if (velocities.cols() != positions().cols()) {
-    throw std::invalid_argument(std::string(name()) + ": set_velocities: expected 3 x "
-                                + std::to_string(positions().cols()) + " velocities, got 3 x "
-                                + std::to_string(velocities.cols()));
-  }
-  if (!velocities.allFinite()) {
-    throw std::invalid_argument(std::string(name()) + ": set_velocities: a NaN or Inf velocity");
-  }
+  check_field("set_velocities", "velocities", velocities);
+}
+
+void SoftBody::check_state(const Eigen::Matrix3Xd& positions,
+                           const Eigen::Matrix3Xd& velocities) const {
+  check_field("set_state", "positions", positions);
+  check_field("set_state", "velocities", velocities);
 }
 
 Eigen::Matrix3Xd SoftBody::constraint_forces() const {

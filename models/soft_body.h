@@ -88,6 +88,11 @@ class SoftBody {
   /// set_velocities()'s precondition: throws std::invalid_argument unless `velocities` is
   /// 3 x positions().cols() and finite.
   void check_velocities(const Eigen::Matrix3Xd& velocities) const;
+  /// set_state()'s precondition, likewise for both.
+  void check_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) const;
+
+ private:
+  void check_field(const char* setter, const char* what, const Eigen::Matrix3Xd& field) const;
 };
 
 }  // namespace softbench

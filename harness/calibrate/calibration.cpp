@@ -53,8 +53,7 @@ StaticSag static_sag(const scenes::Scene& scene,
       mesh, scene.material, params, {scene.source.string(), "/models/" + model});
   std::vector<PositionConstraint> pins;
   std::vector<char> fixed(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  const Eigen::Matrix<double, 3, 2> box = bounding_box(mesh.rest_positions());
-  RunMonitor monitor(mesh, scene.limits, (box.col(1) - box.col(0)).norm());
+  RunMonitor monitor(mesh, scene.limits, bounding_box_diagonal(mesh.rest_positions()));
   for (int vertex : scenes::required_fixed_vertices(
            scene, mesh, "calibrate", "the static sag it fits is the body's, hanging from it")) {
     pins.push_back({vertex, mesh.rest_positions().col(vertex)});

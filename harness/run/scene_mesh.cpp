@@ -138,8 +138,7 @@ void check_units(const scenes::Scene& scene, const TetMesh& body, const TriMesh*
 }  // namespace
 
 double SceneMesh::diagonal() const {
-  const Eigen::Matrix<double, 3, 2> box = bounding_box(body.rest_positions());
-  return (box.col(1) - box.col(0)).norm();
+  return bounding_box_diagonal(body.rest_positions());
 }
 
 SceneMesh read_scene_mesh(const scenes::Scene& scene) {

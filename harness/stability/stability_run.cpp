@@ -27,7 +27,7 @@ class Monitor {
   Monitor(const TetMesh& mesh, const RunBounds& bounds, int steps_planned)
       : mesh_(mesh),
         bounds_(bounds),
-        judge_(mesh, bounds.limits, rest_diagonal(mesh)),
+        judge_(mesh, bounds.limits, bounding_box_diagonal(mesh.rest_positions())),
         start_(Clock::now()) {
     verdict_.steps_planned = steps_planned;
   }
@@ -88,11 +88,6 @@ class Monitor {
   }
 
  private:
-  static double rest_diagonal(const TetMesh& mesh) {
-    const Eigen::Matrix<double, 3, 2> box = bounding_box(mesh.rest_positions());
-    return (box.col(1) - box.col(0)).norm();
-  }
-
   const TetMesh& mesh_;
   RunBounds bounds_;
   RunMonitor judge_;

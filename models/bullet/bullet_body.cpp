@@ -189,7 +189,7 @@ void BulletBody::set_velocities(const Eigen::Matrix3Xd& velocities) {
 }
 
 void BulletBody::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) {
-  check_velocities(positions);
+  check_state(positions, velocities);
   positions_ = positions;
   btSoftBody& body = world_->body();
   for (int i = 0; i < body.m_nodes.size(); ++i) {

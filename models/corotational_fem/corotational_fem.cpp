@@ -148,8 +148,7 @@ void CorotationalFemModel::reset() {
 
 void CorotationalFemModel::set_state(const Eigen::Matrix3Xd& positions,
                                      const Eigen::Matrix3Xd& velocities) {
-  check_velocities(positions);
-  check_velocities(velocities);
+  check_state(positions, velocities);
   positions_ = positions;
   velocities_ = velocities;
 }

@@ -130,8 +130,7 @@ void MassSpringModel::reset() {
 
 void MassSpringModel::set_state(const Eigen::Matrix3Xd& positions,
                                 const Eigen::Matrix3Xd& velocities) {
-  check_velocities(positions);
-  check_velocities(velocities);
+  check_state(positions, velocities);
   positions_ = positions;
   velocities_ = velocities;
 }

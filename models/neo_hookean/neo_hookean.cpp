@@ -26,8 +26,7 @@ NeoHookeanModel::NeoHookeanModel(const TetMesh& mesh,
       masses_(lumped_masses(mesh, material.density)),
       rest_positions_(mesh.rest_positions()),
       constraints_(mesh.num_vertices()) {
-  const Eigen::Matrix<double, 3, 2> box = bounding_box(rest_positions_);
-  length_scale_ = (box.col(1) - box.col(0)).norm();
+  length_scale_ = bounding_box_diagonal(rest_positions_);
 
   const auto num_elements = static_cast<std::size_t>(num_elements_);
   elements_.reserve(num_elements);
@@ -84,8 +83,7 @@ void NeoHookeanModel::reset() {
 
 void NeoHookeanModel::set_state(const Eigen::Matrix3Xd& positions,
                                 const Eigen::Matrix3Xd& velocities) {
-  check_velocities(positions);
-  check_velocities(velocities);
+  check_state(positions, velocities);
   positions_ = positions;
   velocities_ = velocities;
 }

@@ -45,8 +45,7 @@ ShapeMatchingModel::ShapeMatchingModel(const TetMesh& mesh,
       squared_residuals_(Eigen::VectorXd::Zero(num_vertices_)),
       cluster_iterations_(static_cast<std::size_t>(clusters_.count()), 0),
       constraints_(num_vertices_) {
-  const Eigen::Matrix<double, 3, 2> box = bounding_box(rest_positions_);
-  const double diagonal = (box.col(1) - box.col(0)).norm();
+  const double diagonal = bounding_box_diagonal(rest_positions_);
   diagonal_ = diagonal > 0.0 ? diagonal : 1.0;
 }
 
@@ -64,8 +63,7 @@ void ShapeMatchingModel::reset() {
 
 void ShapeMatchingModel::set_state(const Eigen::Matrix3Xd& positions,
                                    const Eigen::Matrix3Xd& velocities) {
-  check_velocities(positions);
-  check_velocities(velocities);
+  check_state(positions, velocities);
   positions_ = positions;
   velocities_ = velocities;
 }
