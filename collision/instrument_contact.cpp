@@ -91,6 +91,14 @@ double sample_spacing(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xi&
   return 0.5 * total / static_cast<double>(std::max<Eigen::Index>(3 * triangles.cols(), 1));
 }
 
+// The share of the margin a vertex may end inside it before refine() holds it: round-off and
+// the solver's stopping error, not a contact the step missed.
+constexpr double kBandSlack = 0.05;
+// The share of the margin an instrument point may come inside it before it pushes the tissue
+// triangle under it: more than the sagitta of a tissue triangle held on a curved instrument
+// at its corners (17 um for 1.2 mm edges on a 1 cm sphere).
+constexpr double kPointSlack = 0.25;
+
 }  // namespace
 
 InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
@@ -119,6 +127,7 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
   last_push_.assign(vertices, Eigen::Vector3d::Zero());
   move_.assign(vertices, Eigen::Vector3d::Zero());
   push_.assign(vertices, Eigen::Vector3d::Zero());
+  slides_.assign(vertices, 1);
 }
 
 double InstrumentContact::instrument_distance(const Eigen::Isometry3d& pose,
@@ -148,7 +157,8 @@ bool InstrumentContact::was_pressed(int vertex) const {
 
 void InstrumentContact::propose(int vertex,
                                 const Eigen::Vector3d& move,
-                                const Eigen::Vector3d& push) {
+                                const Eigen::Vector3d& push,
+                                bool slides) {
   const auto v = static_cast<std::size_t>(vertex);
   if (!has_move_[v]) {
     has_move_[v] = 1;
@@ -158,6 +168,7 @@ void InstrumentContact::propose(int vertex,
   }
   move_[v] = move;
   push_[v] = push;
+  slides_[v] = slides ? 1 : 0;
 }
 
 // Tissue vertices inside the instrument, or pressed against it, or about to enter it: to its
@@ -189,7 +200,7 @@ void InstrumentContact::resolve_tissue_vertices(const Eigen::Isometry3d& pose,
                                           ? direction(local, nearest.point, nearest.normal)
                                           : direction(nearest.point, local, nearest.normal);
     const Eigen::Vector3d target = pose * (nearest.point + margin * out_local);
-    propose(vertex, target - x, pose.linear() * out_local);
+    propose(vertex, target - x, pose.linear() * out_local, /*slides=*/true);
   }
 }
 
@@ -208,7 +219,9 @@ void InstrumentContact::resolve_instrument_vertices() {
     const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
     const bool pressed =
         was_pressed(corners(0)) || was_pressed(corners(1)) || was_pressed(corners(2));
-    const double band = pressed ? 2.0 * margin : margin;
+    // Short of the margin by its slack: a point of a curved instrument between tissue vertices
+    // held at the margin (the chord's sagitta) is not a point the tissue passes.
+    const double band = (pressed ? 2.0 * margin : margin) - kPointSlack * margin;
     if (nearest.signed_distance >= band && predicted_distance_.signed_distance(p) >= band) {
       continue;
     }
@@ -220,7 +233,8 @@ void InstrumentContact::resolve_instrument_vertices() {
     const double weight_norm = w.squaredNorm();
     for (int corner = 0; corner < 3; ++corner) {
       if (w(corner) > 0.0) {
-        propose(corners(corner), (w(corner) / weight_norm * shortfall) * inward, inward);
+        propose(corners(corner), (w(corner) / weight_norm * shortfall) * inward, inward,
+                /*slides=*/false);
       }
     }
   }
@@ -266,7 +280,7 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   targets_.clear();
   for (int vertex : moved_) {
     const auto v = static_cast<std::size_t>(vertex);
-    targets_.push_back({vertex, positions.col(vertex) + move_[v], push_[v]});
+    targets_.push_back({vertex, positions.col(vertex) + move_[v], push_[v], slides_[v] != 0});
     has_move_[v] = 0;
   }
   return targets_;
@@ -296,8 +310,13 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
     }
   }
   targets_.resize(kept);
-  // Hold the surface vertices that ended inside: where the step would have put them, projected
-  // out of the instrument along its surface normal.
+  // Hold the surface vertices that ended inside the margin the contact keeps: where the step
+  // would have put them, projected out along the instrument's surface normal to the margin.
+  // Left inside the margin band, a vertex would take no force there while its neighbours on
+  // the band's edge took all of it: the patch's force would jump by a vertex's share from step
+  // to step. A hold dropped this step comes back only if its vertex ended inside the instrument
+  // itself (the other holds' changes pushed it in); in the band it stays free, so a
+  // hold that pulls cannot be taken again and again within a step.
   for (const VertexTarget& target : targets_) {
     targeted_[static_cast<std::size_t>(target.vertex)] = 1;
   }
@@ -306,21 +325,79 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
   const Eigen::Isometry3d to_local = pose.inverse();
   for (const int vertex : surface_vertices_) {
     const auto v = static_cast<std::size_t>(vertex);
-    if (targeted_[v] != 0 || dropped_[v] != 0 || !reach.contains(positions.col(vertex))) {
+    if (targeted_[v] != 0 || !reach.contains(positions.col(vertex))) {
       continue;
     }
     const Eigen::Vector3d local = to_local * positions.col(vertex);
     const MeshDistance::Nearest nearest = instrument_distance_.nearest(local);
-    if (nearest.signed_distance >= 0.0) {
+    const double allowed = dropped_[v] != 0 ? 0.0 : (1.0 - kBandSlack) * margin;
+    if (nearest.signed_distance >= allowed) {
       continue;
     }
-    const Eigen::Vector3d out_local = direction(local, nearest.point, nearest.normal);
+    const Eigen::Vector3d out_local = nearest.signed_distance < 0.0
+                                          ? direction(local, nearest.point, nearest.normal)
+                                          : direction(nearest.point, local, nearest.normal);
     targets_.push_back(
         {vertex, pose * (nearest.point + margin * out_local), pose.linear() * out_local});
     changed = true;
   }
+  changed = hold_tissue_around_points(positions) || changed;
   for (const VertexTarget& target : targets_) {
     targeted_[static_cast<std::size_t>(target.vertex)] = 0;
+  }
+  return changed;
+}
+
+// The instrument's points the tissue ended around (a thin tip the tissue sprang back over as
+// the tool withdrew, faster than the tool): the triangle under each is held the margin outside
+// the point, as resolve() pushes it, its corners held fully so it stays under the point (a
+// corner sliding along the instrument is held fully instead; another keeps its hold).
+bool InstrumentContact::hold_tissue_around_points(const Eigen::Matrix3Xd& positions) {
+  const double margin = options_.margin;
+  tissue_distance_.update(positions);
+  const Aabb reach = inflated(tissue_distance_.bounds(), margin);
+  bool changed = false;
+  for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
+    const Eigen::Vector3d p = samples_world_.col(i);
+    if (!reach.contains(p)) {
+      continue;
+    }
+    // Only a point inside the tissue itself: one in the margin band is resolve()'s to judge at
+    // the next step (a curved instrument's points come into the band between the vertices
+    // held on it, and holding their triangles fully would make the contact stick).
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    if (nearest.signed_distance >= 0.0) {
+      continue;
+    }
+    const double shortfall = margin - nearest.signed_distance;
+    const Eigen::Vector3d inward = -nearest.normal;
+    const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
+    const Eigen::Vector3d& w = nearest.barycentric;
+    const double weight_norm = w.squaredNorm();
+    for (int corner = 0; corner < 3; ++corner) {
+      const auto v = static_cast<std::size_t>(corners(corner));
+      if (w(corner) <= 0.0) {
+        continue;
+      }
+      const VertexTarget hold{corners(corner),
+                              positions.col(corners(corner))
+                                  + (w(corner) / weight_norm * shortfall) * inward,
+                              inward, /*slides=*/false};
+      if (targeted_[v] == 0) {
+        targets_.push_back(hold);
+        targeted_[v] = 1;
+        changed = true;
+        continue;
+      }
+      // A corner sliding along the instrument let the triangle slip past the point: held
+      // fully where the push puts it.
+      for (VertexTarget& target : targets_) {
+        if (target.vertex == corners(corner) && target.slides) {
+          target = hold;
+          changed = true;
+        }
+      }
+    }
   }
   return changed;
 }

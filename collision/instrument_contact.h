@@ -46,6 +46,10 @@ struct VertexTarget {
   /// Unit direction in which the instrument pushes the vertex (away from the instrument); the
   /// constraint force on the vertex along it is the contact's normal force.
   Eigen::Vector3d push = Eigen::Vector3d::Zero();
+  /// Whether the vertex may slide along the instrument (held along `push` only: frictionless).
+  /// A tissue vertex's own contact slides; a corner of a triangle an instrument point pushes is
+  /// held fully, so its triangle stays under the point within the step.
+  bool slides = true;
 };
 
 /// What one detection found.
@@ -84,9 +88,11 @@ class InstrumentContact {
   /// The active set's correction within a step, after the body was stepped with resolve()'s
   /// targets (and earlier corrections) to `positions` with `forces` (3 x #V, N) on its
   /// constraints: a target whose force pulls the tissue toward the instrument is dropped (no
-  /// contact is adhesive), and a surface vertex that ended inside the instrument at `pose`, not
-  /// dropped this step, gets a target on its surface plus the margin. Returns whether the targets
-  /// changed (then the caller repeats the step from its start with them).
+  /// contact is adhesive), a surface vertex that ended inside the margin around the instrument
+  /// at `pose` gets a target on its surface plus the margin (a dropped one only if it ended
+  /// inside the instrument itself), and a triangle that ended around a point of the instrument
+  /// is held the margin outside it. Returns whether the targets changed (then the caller
+  /// repeats the step from its start with them).
   bool refine(const Eigen::Isometry3d& pose,
               const Eigen::Matrix3Xd& positions,
               const Eigen::Matrix3Xd& forces);
@@ -107,9 +113,10 @@ class InstrumentContact {
  private:
   void resolve_tissue_vertices(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);
   void resolve_instrument_vertices();
-  void propose(int vertex, const Eigen::Vector3d& move, const Eigen::Vector3d& from);
+  void propose(int vertex, const Eigen::Vector3d& move, const Eigen::Vector3d& push, bool slides);
   bool was_pressed(int vertex) const;
   bool on_surface(const Eigen::Isometry3d& pose, const VertexTarget& target) const;
+  bool hold_tissue_around_points(const Eigen::Matrix3Xd& positions);
   /// Per tissue vertex: 1 once refine() dropped its target this step (it is not taken again).
   std::vector<char> dropped_;
   std::vector<char> targeted_;  ///< per tissue vertex: 1 while it has a target (refine's scratch)
@@ -140,6 +147,7 @@ class InstrumentContact {
   std::vector<char> has_move_;         ///< per tissue vertex: a move was proposed this step
   std::vector<Eigen::Vector3d> move_;  ///< per tissue vertex: this step's largest move
   std::vector<Eigen::Vector3d> push_;
+  std::vector<char> slides_;  ///< per tissue vertex: this step's largest move may slide
   std::vector<int> moved_;  ///< vertices with a move this step
   std::vector<VertexTarget> targets_;
   ContactReport report_;

@@ -15,10 +15,32 @@ namespace softbench {
 inline constexpr double kExact = std::numeric_limits<double>::infinity();
 
 /// A vertex held at a target position for one step: pins, grasps and contacts all arrive this way.
+/// `held` says along which directions: all three (the identity), or only some, the vertex being
+/// free along the others. Held along a normal n only (n n^T, along()), it ends on the plane
+/// through `target` normal to n and slides freely in it, and the constraint's force is along n
+/// (a frictionless contact, a support, a symmetry plane); held across a line (I - a a^T) it
+/// slides along the line through `target` in direction a (two planes at once).
 struct PositionConstraint {
   int vertex = -1;
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  ///< m, world frame, at the end of the step
   double stiffness = kExact;  ///< kExact: enforce exactly; finite: a penalty spring, N/m
+  /// An orthogonal projector onto the held directions (symmetric, idempotent, rank 1 to 3).
+  Eigen::Matrix3d held = Eigen::Matrix3d::Identity();
+
+  /// The projector of a constraint held along `normal` (any length but zero) only.
+  static Eigen::Matrix3d along(const Eigen::Vector3d& normal) {
+    const Eigen::Vector3d n = normal.normalized();
+    return n * n.transpose();
+  }
+  bool slides() const { return held != Eigen::Matrix3d::Identity(); }
+  /// The part of the way from `x` to the target that the constraint holds: held (target - x).
+  Eigen::Vector3d gap(const Eigen::Vector3d& x) const { return held * (target - x); }
+  /// Where the constraint puts a vertex that would be at `x`: the target, or x moved onto the
+  /// plane (line) through it. A full hold gives the target itself, not x + (target - x), which
+  /// rounds.
+  Eigen::Vector3d place(const Eigen::Vector3d& x) const {
+    return slides() ? Eigen::Vector3d(x + gap(x)) : target;
+  }
 };
 
 /// Whether a vertex's constraint (null: none) is enforced exactly, or as a penalty spring.

@@ -142,6 +142,10 @@ struct Scene {
   double dt = 1.0 / 60.0;  ///< s
   double duration = 1.0;   ///< s
   FixedRegion fixed;
+  /// Frictionless supports: the vertices within each plane's tolerance at rest stay on the plane
+  /// and slide freely in it (a table under the body, a symmetry plane of a half or quarter
+  /// model). A fixed vertex stays fixed.
+  std::vector<Plane> supports;
   std::optional<InitialVelocity> initial_velocity;  ///< absent: the body starts at rest
   std::optional<Grasp> grasp;
   std::optional<Instrument> instrument;

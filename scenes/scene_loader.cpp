@@ -169,6 +169,16 @@ FixedRegion read_fixed(const JsonReader& root) {
   return fixed;
 }
 
+std::vector<Plane> read_supports(const JsonReader& root) {
+  std::vector<Plane> supports;
+  if (root.has("supports")) {
+    for (const JsonReader& in : root.objects("supports")) {
+      supports.push_back(read_plane(in));
+    }
+  }
+  return supports;
+}
+
 InitialVelocity read_initial_velocity(const JsonReader& root) {
   const JsonReader in = root.object("initial_velocity");
   allow_only(in, {"linear", "angular", "center"});
@@ -400,7 +410,7 @@ Scene load_scene(const std::filesystem::path& path) {
 Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& source) {
   const JsonReader root(json, source.string());
   allow_only(root, {"name", "description", "mesh", "material", "gravity", "time", "fixed",
-                    "initial_velocity", "grasp", "instrument", "limits", "requirements", "models"});
+                    "supports", "initial_velocity", "grasp", "instrument", "limits", "requirements", "models"});
   const fs::path folder = source.parent_path();
   Scene scene;
   scene.source = source;
@@ -414,6 +424,7 @@ Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& sourc
   scene.gravity = read_gravity(root);
   read_time(root, scene);
   scene.fixed = read_fixed(root);
+  scene.supports = read_supports(root);
   if (root.has("initial_velocity")) {
     scene.initial_velocity = read_initial_velocity(root);
   }
@@ -461,6 +472,12 @@ nlohmann::json to_json(const Scene& scene) {
                       {"tolerance", scene.fixed.plane->tolerance}};
   }
   json["fixed"] = fixed;
+  // Absent without supports, so the echo of a scene without them is what it was.
+  for (const Plane& plane : scene.supports) {
+    json["supports"].push_back({{"point", vector_json(plane.point)},
+                                {"normal", vector_json(plane.normal)},
+                                {"tolerance", plane.tolerance}});
+  }
   // Absent without an initial velocity, so the echo of a scene without one is what it was.
   if (scene.initial_velocity) {
     json["initial_velocity"] = {{"linear", vector_json(scene.initial_velocity->linear)},

@@ -56,6 +56,39 @@ std::vector<int> fixed_vertices(const Scene& scene, const TetMesh& mesh) {
   return selected;
 }
 
+std::vector<SupportedVertex> supported_vertices(const Scene& scene, const TetMesh& mesh) {
+  std::vector<SupportedVertex> supported;
+  if (scene.supports.empty()) {
+    return supported;
+  }
+  const std::vector<int> fixed = fixed_vertices(scene, mesh);
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  for (int vertex = 0; vertex < mesh.num_vertices(); ++vertex) {
+    if (std::binary_search(fixed.begin(), fixed.end(), vertex)) {
+      continue;
+    }
+    // The normals' span, one Gram-Schmidt step per plane: a plane parallel to one already
+    // counted adds nothing.
+    Eigen::Matrix3d held = Eigen::Matrix3d::Zero();
+    bool selected = false;
+    for (const Plane& plane : scene.supports) {
+      if (!within_band(plane, rest.col(vertex))) {
+        continue;
+      }
+      selected = true;
+      const Eigen::Vector3d normal = plane.normal - held * plane.normal;
+      if (normal.norm() > 1e-6) {
+        const Eigen::Vector3d unit = normal.normalized();
+        held += unit * unit.transpose();
+      }
+    }
+    if (selected) {
+      supported.push_back({vertex, held});
+    }
+  }
+  return supported;
+}
+
 std::vector<int> required_fixed_vertices(const Scene& scene,
                                          const TetMesh& mesh,
                                          const std::string& command,

@@ -22,6 +22,17 @@ std::vector<int> required_fixed_vertices(const Scene& scene,
                                          const std::string& command,
                                          const std::string& reason);
 
+/// A vertex on one or more of the scene's supports: held along their normals, free along the
+/// rest (one plane: it slides in it; two: along their line; three: held).
+struct SupportedVertex {
+  int vertex = -1;
+  /// The projector onto the span of the normals of the supports that select it.
+  Eigen::Matrix3d held = Eigen::Matrix3d::Zero();
+};
+
+/// The vertices the scene's supports select at rest, fixed ones left out, sorted.
+std::vector<SupportedVertex> supported_vertices(const Scene& scene, const TetMesh& mesh);
+
 /// The scene's initial velocity on `mesh` (3 x #V, m/s): v_i = linear + angular x (x_i - c) at
 /// the rest positions x_i, c the given center or else the centre of mass at rest; zero at the
 /// fixed vertices, and everywhere when the scene has no initial velocity.

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "tests/test_meshes.h"
 
+#include "geometry/shape_meshes.h"
+
 #include <Eigen/Geometry>
 #include <unistd.h>
 
@@ -64,43 +66,7 @@ MeshData cube_five_tets() {
 }
 
 MeshData box_tets(int nx, int ny, int nz, double lx, double ly, double lz) {
-  MeshData mesh;
-  const auto vertex_index = [&](int i, int j, int k) { return i + (nx + 1) * (j + (ny + 1) * k); };
-  mesh.vertices.resize(3, (nx + 1) * (ny + 1) * (nz + 1));
-  for (int k = 0; k <= nz; ++k) {
-    for (int j = 0; j <= ny; ++j) {
-      for (int i = 0; i <= nx; ++i) {
-        mesh.vertices.col(vertex_index(i, j, k)) << lx * i / nx, ly * j / ny, lz * k / nz;
-      }
-    }
-  }
-  // Kuhn's split: the six tets along the main diagonal, one per ordering of the axes. Every cube
-  // uses the same diagonal direction, so neighbouring cubes share face diagonals (conforming).
-  const int axis_orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  std::vector<Eigen::Vector4i> tets;
-  for (int k = 0; k < nz; ++k) {
-    for (int j = 0; j < ny; ++j) {
-      for (int i = 0; i < nx; ++i) {
-        for (const auto& order : axis_orders) {
-          Eigen::Vector3i corner(i, j, k);
-          Eigen::Vector4i tet;
-          tet(0) = vertex_index(corner.x(), corner.y(), corner.z());
-          for (int step = 0; step < 3; ++step) {
-            corner(order[step]) += 1;
-            tet(step + 1) = vertex_index(corner.x(), corner.y(), corner.z());
-          }
-          tets.push_back(tet);
-        }
-      }
-    }
-  }
-  mesh.tetrahedra.resize(4, static_cast<Eigen::Index>(tets.size()));
-  for (std::size_t t = 0; t < tets.size(); ++t) {
-    mesh.tetrahedra.col(static_cast<Eigen::Index>(t)) = tets[t];
-  }
-  mesh.source = "box_tets";
-  orient_positively(mesh);
-  return mesh;
+  return softbench::box_tets(nx, ny, nz, lx, ly, lz);
 }
 
 MeshData cube_surface() {

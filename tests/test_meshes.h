@@ -14,7 +14,8 @@ namespace softbench::test {
 MeshData single_tet();
 /// The unit cube [0,1]^3 split into 5 tets (one central regular tet), positively oriented.
 MeshData cube_five_tets();
-/// A box [0,lx]x[0,ly]x[0,lz] of nx*ny*nz cubes, each split into 6 tets (Kuhn), conforming.
+/// A box [0,lx]x[0,ly]x[0,lz] of nx*ny*nz cubes, each split into 6 tets (Kuhn), conforming
+/// (geometry/shape_meshes.h builds it).
 MeshData box_tets(int nx, int ny, int nz, double lx = 1.0, double ly = 1.0, double lz = 1.0);
 /// The closed, outward-oriented surface of the unit cube: 8 vertices, 12 triangles.
 MeshData cube_surface();

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// softbench: the command line. Bad input exits 2 with one line naming the file and the problem;
-// any other failure exits 1.
+// softbench: the command line. Bad input (a bad option, a bad file) exits 2 with one line naming
+// the option or the file and the problem; any other failure exits 1.
 #include "geometry/input_error.h"
 #include "harness/calibrate/calibration.h"
 #include "harness/cli/commands.h"
@@ -20,13 +20,19 @@ int main(int argc, char** argv) {
   using namespace softbench::harness;
   for (auto add : {add_run_command, add_compare_command, add_sweep_command, add_merge_command,
                    add_recommend_command, add_stability_command, add_calibrate_command,
-                   add_models_command, add_mesh_command}) {
+                   add_verify_command, add_models_command, add_mesh_command}) {
     add(app);
   }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+    if (error.get_exit_code() == 0) {
+      return app.exit(error);  // --help, --version
+    }
+    // A bad option is bad input like any other: status 2 and one line (CLI11's own codes start
+    // at 100, which scripts would take for a crash).
+    std::cerr << "softbench: error: " << error.what() << " (see --help)\n";
+    return 2;
   } catch (const softbench::InputError& error) {
     std::cerr << "softbench: error: " << error.what() << "\n";
     return 2;

@@ -23,6 +23,10 @@ Loading::Loading(const scenes::Scene& scene, const SceneMesh& scene_mesh) : scen
   for (int vertex : scenes::fixed_vertices(scene, mesh)) {
     fixed_.push_back({vertex, mesh.rest_positions().col(vertex)});
   }
+  for (const scenes::SupportedVertex& supported : scenes::supported_vertices(scene, mesh)) {
+    fixed_.push_back(
+        {supported.vertex, mesh.rest_positions().col(supported.vertex), kExact, supported.held});
+  }
   grasped_ = scenes::grasped_vertices(scene, mesh);
   if (scene.instrument) {
     collision::InstrumentContactOptions options;
@@ -33,6 +37,12 @@ Loading::Loading(const scenes::Scene& scene, const SceneMesh& scene_mesh) : scen
   const auto vertices = static_cast<std::size_t>(mesh.num_vertices());
   in_contact_.assign(vertices, false);
   held_.assign(vertices, 0);
+  support_slot_.assign(vertices, -1);
+  for (std::size_t k = 0; k < fixed_.size(); ++k) {
+    if (fixed_[k].slides()) {
+      support_slot_[static_cast<std::size_t>(fixed_[k].vertex)] = static_cast<int>(k);
+    }
+  }
   lost_.assign(vertices, false);
   constraints_.reserve(fixed_.size() + grasped_.size());
 }
@@ -89,10 +99,6 @@ std::span<const PositionConstraint> Loading::constraints(double start,
     }
   }
   if (contact_) {
-    // The fixed region and the grasp win over contact.
-    for (const PositionConstraint& constraint : constraints_) {
-      held_[static_cast<std::size_t>(constraint.vertex)] = 1;
-    }
     held_constraints_ = constraints_.size();
     held_loaded_ = loaded_.size();
     end_pose_ = scenes::instrument_pose(*scene_.instrument, end);
@@ -104,21 +110,47 @@ std::span<const PositionConstraint> Loading::constraints(double start,
 }
 
 void Loading::add_contact_targets() {
-  // The fixed region and the grasp win over contact.
+  // The fixed region and the grasp win over contact; a support shares its vertex with it (a
+  // symmetry plane through the contact patch). The supports' own constraints first, as they
+  // were before the last merge.
+  std::copy(fixed_.begin(), fixed_.end(), constraints_.begin());
   for (std::size_t k = 0; k < held_constraints_; ++k) {
-    held_[static_cast<std::size_t>(constraints_[k].vertex)] = 1;
+    if (!constraints_[k].slides()) {
+      held_[static_cast<std::size_t>(constraints_[k].vertex)] = 1;
+    }
   }
   constraints_.resize(held_constraints_);
   loaded_.resize(held_loaded_);
   for (const collision::VertexTarget& target : contact_->targets()) {
-    if (held_[static_cast<std::size_t>(target.vertex)] == 0) {
-      constraints_.push_back({target.vertex, target.target});
-      loaded_.push_back(target.vertex);
+    const auto v = static_cast<std::size_t>(target.vertex);
+    if (held_[v] != 0) {
+      continue;
     }
+    loaded_.push_back(target.vertex);
+    if (const int slot = support_slot_[v]; slot >= 0) {
+      merge_contact(constraints_[static_cast<std::size_t>(slot)], target);
+      continue;
+    }
+    // Frictionless: held along the contact normal only, free to slide along the instrument.
+    constraints_.push_back({target.vertex, target.target, kExact,
+                            target.slides ? PositionConstraint::along(target.push)
+                                          : Eigen::Matrix3d(Eigen::Matrix3d::Identity())});
   }
   for (std::size_t k = 0; k < held_constraints_; ++k) {
     held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;
   }
+}
+
+// The support keeps its directions and its target along them; the contact adds the part of its
+// normal the support leaves free, with its target along that.
+void Loading::merge_contact(PositionConstraint& support, const collision::VertexTarget& contact) {
+  const Eigen::Matrix3d along_support = support.held;
+  const Eigen::Vector3d free_push = contact.push - along_support * contact.push;
+  if (free_push.norm() <= 1e-6) {
+    return;  // the contact pushes along the support's normal only: the support holds it
+  }
+  support.held = along_support + PositionConstraint::along(free_push);
+  support.target = contact.target + along_support * (support.target - contact.target);
 }
 
 std::optional<std::span<const PositionConstraint>> Loading::refine(
@@ -135,9 +167,15 @@ void Loading::observe(double end,
                       const Eigen::Matrix3Xd& forces) {
   Eigen::Vector3d on_tissue = Eigen::Vector3d::Zero();
   for (int vertex : loaded_) {
-    on_tissue += forces.col(vertex);
+    // At a supported vertex, what the support holds is not the tool's.
+    const int slot = support_slot_[static_cast<std::size_t>(vertex)];
+    on_tissue += slot < 0 ? Eigen::Vector3d(forces.col(vertex))
+                          : Eigen::Vector3d(forces.col(vertex)
+                                            - fixed_[static_cast<std::size_t>(slot)].held
+                                                  * forces.col(vertex));
   }
-  tool_force_ = on_tissue.norm();
+  // The constraints' forces act on the tissue; the tissue pushes the tool back.
+  tool_force_ = -on_tissue;
   if (scene_.grasp) {
     tool_displacement_ = scenes::grasp_offset(*scene_.grasp, end).norm();
   }

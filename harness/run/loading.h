@@ -47,7 +47,9 @@ class Loading {
   void observe(double end, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces);
 
   double tool_displacement() const { return tool_displacement_; }  ///< m, at the last observe
-  double tool_force() const { return tool_force_; }                ///< N, at the last observe
+  double tool_force() const { return tool_force_.norm(); }  ///< N, at the last observe
+  /// N: the force the tissue exerts on the tool (grasp or instrument), at the last observe.
+  const Eigen::Vector3d& tool_force_vector() const { return tool_force_; }
   double max_penetration() const { return max_penetration_; }      ///< m, over all observes
   /// m, over the observes from the instrument's start to its release.
   double max_penetration_pressing() const { return max_penetration_pressing_; }
@@ -62,22 +64,25 @@ class Loading {
   Eigen::Vector3d tool_origin(double time) const;
 
   const scenes::Scene& scene_;
-  std::vector<PositionConstraint> fixed_;
+  std::vector<PositionConstraint> fixed_;  ///< the fixed region, then the supports (sliding)
   std::vector<int> grasped_;
   Eigen::Matrix3Xd grasp_anchor_;  ///< grasped vertices where grasped: world (grasp) or tool frame
   std::unique_ptr<collision::InstrumentContact> contact_;
   std::vector<PositionConstraint> constraints_;
   std::vector<int> loaded_;           ///< vertices whose constraint forces act on the tool
   std::vector<char> held_;            ///< per vertex: fixed or grasped this step (scratch)
+  /// Per vertex: its support's index in fixed_ (and constraints_), or -1.
+  std::vector<int> support_slot_;
   std::size_t held_constraints_ = 0;  ///< constraints_ before the contact's: fixed, grasp
   std::size_t held_loaded_ = 0;       ///< loaded_ before the contact's
   Eigen::Isometry3d end_pose_ = Eigen::Isometry3d::Identity();  ///< the instrument this step
 
   void add_contact_targets();
+  static void merge_contact(PositionConstraint& support, const collision::VertexTarget& contact);
   std::vector<bool> in_contact_;  ///< per vertex: pressed by the instrument at the last step
   std::vector<bool> lost_;        ///< per vertex: lost contact while the instrument pressed
   double tool_displacement_ = 0.0;
-  double tool_force_ = 0.0;
+  Eigen::Vector3d tool_force_ = Eigen::Vector3d::Zero();
   double max_penetration_ = 0.0;
   double max_penetration_pressing_ = 0.0;
   int max_triangle_pairs_ = 0;

@@ -108,12 +108,22 @@ StepStats BulletBody::step(double dt, const StepInput& input) {
   exact_.clear();
   exact_targets_.clear();
   penalties_.clear();
+  const auto num_vertices = static_cast<int>(positions_.cols());
   for (const PositionConstraint& constraint : input.constraints) {
+    if (constraint.vertex < 0 || constraint.vertex >= num_vertices) {
+      continue;  // as VertexConstraints: out of range is ignored, step() never throws
+    }
+    // Bullet has no sliding constraint: a sliding one holds its vertex where the free flight
+    // x + dt v meets the plane, so the vertex slides from step to step but not within one.
+    const Eigen::Vector3d target =
+        constraint.slides() ? constraint.place(positions_.col(constraint.vertex)
+                                               + dt * velocities_.col(constraint.vertex))
+                            : constraint.target;
     if (std::isinf(constraint.stiffness)) {
       exact_.push_back(constraint.vertex);
-      exact_targets_.push_back(constraint.target);
+      exact_targets_.push_back(target);
     } else {
-      penalties_.push_back({constraint.vertex, constraint.target, constraint.stiffness});
+      penalties_.push_back({constraint.vertex, target, constraint.stiffness});
     }
   }
   update_kinematic_nodes(exact_);

@@ -135,10 +135,11 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     }
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
-      // A spring k (target - x): its stiffness k I adds dt^2 k I to A and -dt^2 k v to b.
-      block.diagonal().array() += dt * dt * constraint->stiffness;
+      // A spring k H (target - x), H the held directions: its stiffness k H adds dt^2 k H to A
+      // and -dt^2 k H v to b.
+      block += (dt * dt * constraint->stiffness) * constraint->held;
       force += constraint->stiffness
-               * (constraint->target - positions_.col(v) - dt * velocities_.col(v));
+               * constraint->gap(positions_.col(v) + dt * velocities_.col(v));
     }
     pattern_->set(pattern_->vertex_block(v), block);
     rhs_.segment<3>(3 * v) = rhs + dt * force;
@@ -187,7 +188,9 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
   eliminate_exact_constraints(dt);
   clock.lap(&PhaseTimes::assembly);
 
-  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_, velocities_.data());
+  const SolveReport report =
+      solver_->solve(*pattern_, rhs_, velocity_change_, elimination_.in_frame(velocities_));
+  elimination_.to_world(velocity_change_);
   clock.lap(&PhaseTimes::solve);
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
@@ -210,7 +213,7 @@ StepStats CorotationalFemModel::finish_step() const {
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
       stats.max_constraint_error =
-          std::max(stats.max_constraint_error, (positions_.col(v) - constraint->target).norm());
+          std::max(stats.max_constraint_error, constraint->gap(positions_.col(v)).norm());
     }
   }
   stats.finite = positions_.allFinite() && velocities_.allFinite();

@@ -101,7 +101,7 @@ Eigen::Vector3d MassSpringModel::vertex_force(int vertex,
     force += input.external_forces->col(vertex);
   }
   if (is_penalty(constraint)) {
-    force += constraint->stiffness * (constraint->target - positions_.col(vertex));
+    force += constraint->stiffness * constraint->gap(positions_.col(vertex));
   }
   return force;
 }
@@ -120,17 +120,20 @@ StepStats MassSpringModel::step_symplectic(double dt, const StepInput& input) {
     }
     const double mass = masses_(v);
     if (is_exact(constraint)) {
-      // The vertex lands on its target; the reaction is what its momentum change needed beyond
-      // the other forces.
-      const Eigen::Vector3d new_velocity = (constraint->target - positions_.col(v)) / dt;
+      // The vertex lands on its target (a sliding one where its free step meets the plane); the
+      // reaction is what its momentum change needed beyond the other forces.
+      const Eigen::Vector3d free_position =
+          positions_.col(v) + dt * (velocities_.col(v) + (dt / mass) * force);
+      const Eigen::Vector3d placed = constraint->place(free_position);
+      const Eigen::Vector3d new_velocity = (placed - positions_.col(v)) / dt;
       constraint_forces_.col(v) = mass * (new_velocity - velocities_.col(v)) / dt - force;
       velocities_.col(v) = new_velocity;
-      positions_.col(v) = constraint->target;
+      positions_.col(v) = placed;  // exactly: x + dt v would round
       continue;
     }
     constraint_forces_.col(v) =
         is_penalty(constraint)
-            ? Eigen::Vector3d(constraint->stiffness * (constraint->target - positions_.col(v)))
+            ? Eigen::Vector3d(constraint->stiffness * constraint->gap(positions_.col(v)))
             : Eigen::Vector3d::Zero();
     velocities_.col(v) += (dt / mass) * force;
     positions_.col(v) += dt * velocities_.col(v);
@@ -148,9 +151,11 @@ void MassSpringModel::assemble_implicit_system(double dt, const StepInput& input
         (mass * (1.0 + dt * params_.mass_damping)) * Eigen::Matrix3d::Identity();
     Eigen::Vector3d force = vertex_force(v, input, constraint);
     if (is_penalty(constraint)) {
-      // A penalty spring to the target: K = -k_p I, so A gains dt^2 k_p I and b gains dt K v.
-      block.diagonal().array() += dt * dt * constraint->stiffness;
-      force -= dt * constraint->stiffness * velocities_.col(v);
+      // A penalty spring to the target: K = -k_p H (H the held directions), so A gains
+      // dt^2 k_p H and b gains dt K v.
+      const Eigen::Matrix3d held = constraint->stiffness * constraint->held;
+      block += (dt * dt) * held;
+      force -= dt * held * velocities_.col(v);
     }
     for (int k = incident_offsets_[static_cast<std::size_t>(v)];
          k < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
@@ -185,7 +190,9 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
   compute_spring_linearization(dt);
   assemble_implicit_system(dt, input);
   eliminate_exact_constraints(dt);
-  const SolveReport report = solver_->solve(*pattern_, rhs_, velocity_change_, velocities_.data());
+  const SolveReport report =
+      solver_->solve(*pattern_, rhs_, velocity_change_, elimination_.in_frame(velocities_));
+  elimination_.to_world(velocity_change_);
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
   compute_implicit_reactions(dt);
@@ -205,7 +212,7 @@ StepStats MassSpringModel::finish_step() const {
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
       stats.max_constraint_error =
-          std::max(stats.max_constraint_error, (positions_.col(v) - constraint->target).norm());
+          std::max(stats.max_constraint_error, constraint->gap(positions_.col(v)).norm());
     }
   }
   stats.finite = positions_.allFinite() && velocities_.allFinite();

@@ -72,8 +72,7 @@ NeoHookeanModel::EnergyValue NeoHookeanModel::potential_energy(const Potential& 
     magnitude += kinetic + std::abs(work);
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
-      const double spring =
-          0.5 * constraint->stiffness * (x.col(v) - constraint->target).squaredNorm();
+      const double spring = 0.5 * constraint->stiffness * constraint->gap(x.col(v)).squaredNorm();
       energy += spring;
       magnitude += spring;
     }
@@ -102,7 +101,7 @@ void NeoHookeanModel::assemble_gradient(const Potential& potential, const Eigen:
     }
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
-      term += constraint->stiffness * (x.col(v) - constraint->target);
+      term -= constraint->stiffness * constraint->gap(x.col(v));
     }
     gradient_.col(v) += term;
   }
@@ -127,14 +126,16 @@ void NeoHookeanModel::assemble_hessian(const Potential& potential) {
     }
   }
   for (int v = 0; v < num_vertices_; ++v) {
-    double diagonal = potential.mass_coefficient * masses_(v);
+    Eigen::Matrix3d block = potential.mass_coefficient * masses_(v) * Eigen::Matrix3d::Identity();
     const PositionConstraint* constraint = constraints_.of(v);
     if (is_penalty(constraint)) {
-      diagonal += constraint->stiffness;
+      block += constraint->stiffness * constraint->held;
     }
     const BlockEntries& where = pattern_->vertex_block(v);
     for (int a = 0; a < 3; ++a) {
-      values[where[static_cast<std::size_t>(4 * a)]] += diagonal;
+      for (int b = 0; b < 3; ++b) {
+        values[where[static_cast<std::size_t>(3 * a + b)]] += block(a, b);
+      }
     }
   }
 }
@@ -151,7 +152,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
   positions_ = predicted_;
   for (const int c : constraints_.exact_vertices()) {
     if (const PositionConstraint* constraint = constraints_.of(c); constraint != nullptr) {
-      positions_.col(c) = constraint->target;
+      positions_.col(c) = constraint->place(positions_.col(c));
     }
   }
 
@@ -169,6 +170,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
     rhs_ = -Eigen::Map<const Eigen::VectorXd>(gradient_.data(), pattern_->size());
     elimination_.eliminate(*pattern_, constraints_, zero_change_, rhs_, newton_step_);
     SolveReport report = solver_->solve(*pattern_, rhs_, newton_step_, nullptr);
+    elimination_.to_world(newton_step_);
     stats.factorizations += report.factorizations;
     ++stats.linear_solves;
     if (!report.succeeded && !project && std::isfinite(energy.value)) {
@@ -178,6 +180,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
       assemble_hessian(potential);
       elimination_.eliminate(*pattern_, constraints_, zero_change_, rhs_, newton_step_);
       report = solver_->solve(*pattern_, rhs_, newton_step_, nullptr);
+      elimination_.to_world(newton_step_);
       stats.factorizations += report.factorizations;
       ++stats.linear_solves;
     }
@@ -187,7 +190,8 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
     }
     Eigen::Map<Eigen::Matrix3Xd> change(newton_step_.data(), 3, num_vertices_);
     for (const int c : constraints_.exact_vertices()) {
-      change.col(c).setZero();  // exactly on the target, whatever the round-off of the solve
+      // Exactly on the target (a sliding vertex on its plane), whatever the solve's round-off.
+      change.col(c) -= constraints_.of(c)->held * change.col(c);
     }
     step_norm = change.colwise().norm().maxCoeff();
     if (!std::isfinite(step_norm)) {
@@ -236,12 +240,12 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
         continue;  // not reached: every listed vertex has one
       }
       if (is_exact(constraint)) {
-        constraint_forces_.col(v) = gradient_.col(v);
+        // Along the held directions: a sliding vertex's tangential balance is the solve's.
+        constraint_forces_.col(v) = constraint->held * gradient_.col(v);
       } else {
-        constraint_forces_.col(v) =
-            constraint->stiffness * (constraint->target - positions_.col(v));
+        constraint_forces_.col(v) = constraint->stiffness * constraint->gap(positions_.col(v));
         stats.max_constraint_error =
-            std::max(stats.max_constraint_error, (positions_.col(v) - constraint->target).norm());
+            std::max(stats.max_constraint_error, constraint->gap(positions_.col(v)).norm());
       }
     }
   }

@@ -95,13 +95,16 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
     force += input.external_forces->col(vertex);
   }
   if (is_exact(constraint)) {
-    // On the target before the matching, so the particle drags its clusters along; the reaction
-    // is the momentum change the other forces did not make.
-    const Eigen::Vector3d velocity = (constraint->target - positions_.col(vertex)) / dt;
+    // On the target (a sliding particle: where its free flight meets the plane) before the
+    // matching, so the particle drags its clusters along; the reaction is the momentum change
+    // the other forces did not make.
+    const Eigen::Vector3d placed = constraint->place(
+        positions_.col(vertex) + dt * (velocities_.col(vertex) + (dt / mass) * force));
+    const Eigen::Vector3d velocity = (placed - positions_.col(vertex)) / dt;
     constraint_forces_.col(vertex) = mass * (velocity - velocities_.col(vertex)) / dt - force;
     velocities_.col(vertex) = velocity;
-    positions_.col(vertex) = constraint->target;
-    predicted_.col(vertex) = constraint->target;
+    positions_.col(vertex) = placed;
+    predicted_.col(vertex) = placed;
     return;
   }
   if (is_penalty(constraint)) {
@@ -109,7 +112,7 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
     // (m + dt^2 k) v* = m v + dt (f + k (target - x)).
     const double k = constraint->stiffness;
     velocities_.col(vertex) = (mass * velocities_.col(vertex)
-                               + dt * (force + k * (constraint->target - positions_.col(vertex))))
+                               + dt * (force + k * constraint->gap(positions_.col(vertex))))
                               / (mass + dt * dt * k);
   } else {
     velocities_.col(vertex) += (dt / mass) * force;
@@ -119,22 +122,26 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
 
 void ShapeMatchingModel::pull(int vertex, double dt) {
   const PositionConstraint* constraint = constraints_.of(vertex);
+  const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - predicted_.col(vertex);
   if (is_exact(constraint)) {
     // Held on its target, it is denied the pull toward its goal that its clusters' fit gave
-    // it; holding it there takes the opposite of that pull's force, m alpha (p - g) / dt^2.
-    squared_residuals_(vertex) = 0.0;
-    constraint_forces_.col(vertex) += masses_(vertex) * params_.alpha
-                                      * (predicted_.col(vertex) - matcher_.goal(vertex))
-                                      / (dt * dt);
+    // it (a sliding particle only the pull's normal part: it follows the rest in its plane);
+    // holding it takes the opposite of the denied pull's force, m alpha H (p - g) / dt^2.
+    const Eigen::Matrix3d held = constraint->held;
+    const Eigen::Vector3d free_pull = towards_goal - held * towards_goal;
+    squared_residuals_(vertex) = free_pull.squaredNorm();
+    velocities_.col(vertex) += (params_.alpha / dt) * free_pull;
+    positions_.col(vertex) = predicted_.col(vertex) + params_.alpha * free_pull;
+    constraint_forces_.col(vertex) -=
+        masses_(vertex) * params_.alpha * (held * towards_goal) / (dt * dt);
     return;
   }
-  const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - predicted_.col(vertex);
   squared_residuals_(vertex) = towards_goal.squaredNorm();
   velocities_.col(vertex) += (params_.alpha / dt) * towards_goal;
   positions_.col(vertex) = predicted_.col(vertex) + params_.alpha * towards_goal;
   constraint_forces_.col(vertex) =
       is_penalty(constraint)
-          ? Eigen::Vector3d(constraint->stiffness * (constraint->target - positions_.col(vertex)))
+          ? Eigen::Vector3d(constraint->stiffness * constraint->gap(positions_.col(vertex)))
           : Eigen::Vector3d::Zero();
 }
 
@@ -169,8 +176,8 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   for (const int vertex : constraints_.vertices()) {
     const PositionConstraint* constraint = constraints_.of(vertex);
     if (is_penalty(constraint)) {
-      stats.max_constraint_error = std::max(stats.max_constraint_error,
-                                            (positions_.col(vertex) - constraint->target).norm());
+      stats.max_constraint_error =
+          std::max(stats.max_constraint_error, constraint->gap(positions_.col(vertex)).norm());
     } else {
       --free_particles;  // exactly on its target
     }

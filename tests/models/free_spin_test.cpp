@@ -33,24 +33,23 @@
 // is not rotation-invariant (its stress is built from dF + dF^T) and stops the spin: 0.02% of L
 // is left after 2 s. The shape stays within 0.6% of the rest shape's best rigid placement for
 // every model (the centrifugal stretch and its oscillation).
-#include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
+#include "harness/verify/free_spin.h"
 #include "models/model_registry.h"
-#include "models/soft_body.h"
 #include "tests/test_meshes.h"
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include <algorithm>
-#include <cmath>
-#include <memory>
 #include <string>
 #include <vector>
 
+// The measurement (harness/verify/free_spin.h) is shared with `softbench verify`'s free-spin
+// case, so the command and these tests measure the same thing.
 namespace softbench {
 namespace {
+
+using harness::SpinResult;
 
 /// 10 x 6 x 4 cm in 2 cm cells: 72 vertices, 180 tets.
 const TetMesh& spin_box() {
@@ -61,8 +60,6 @@ const TetMesh& spin_box() {
 /// The liver material of the scenes.
 const Material kMaterial{3000.0, 0.3, 1060.0};
 
-constexpr double kRate = 3.0;      // rad/s
-constexpr double kDuration = 2.0;  // s
 constexpr double kSceneStep = 1.0 / 60.0;
 
 /// The brief's bounds: 1% of the angular momentum, and an RMS distance to the best rigid
@@ -73,46 +70,10 @@ constexpr double kShapeBound = 0.01;
 /// of the diagonal measured), the other models' solves at 3e-9 or less.
 constexpr double kCentreBound = 1e-5;
 
-Eigen::Vector3d centre_of_mass(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& masses) {
-  return x * masses / masses.sum();
-}
-
-Eigen::Vector3d angular_momentum(const Eigen::Matrix3Xd& x,
-                                 const Eigen::Matrix3Xd& v,
-                                 const Eigen::VectorXd& masses) {
-  const Eigen::Vector3d centre = centre_of_mass(x, masses);
-  Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
-  for (Eigen::Index i = 0; i < x.cols(); ++i) {
-    momentum += masses(i) * (x.col(i) - centre).cross(v.col(i));
-  }
-  return momentum;
-}
-
-/// RMS distance of `x` to the best rigid placement of `rest` (Kabsch, unweighted, as the
-/// recovery residual weighs vertices), m.
-double rigid_fit_rms(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& rest) {
-  const Eigen::Matrix4d fit = Eigen::umeyama(rest, x, /*with_scaling=*/false);
-  const Eigen::Matrix3Xd placed =
-      (fit.topLeftCorner<3, 3>() * rest).colwise() + fit.topRightCorner<3, 1>();
-  return std::sqrt((x - placed).colwise().squaredNorm().mean());
-}
-
-struct Spin {
-  bool finite = true;
-  double momentum_drift = 0.0;  ///< largest |L(t) - L(0)| / |L(0)|
-  double shape_error = 0.0;     ///< largest RMS distance to the rigid fit / bbox diagonal
-  double centre_drift = 0.0;    ///< largest centre-of-mass displacement / bbox diagonal
-};
-
 /// The model's parameters with its registry's damping off, `overrides` merged in.
 nlohmann::json undamped(const std::string& model,
                         const nlohmann::json& overrides = nlohmann::json::object()) {
-  nlohmann::json params = nlohmann::json::object();
-  for (const auto& [key, value] : builtin_models().at(model).settling_damping.items()) {
-    params[key] = 0.0;
-  }
-  params.update(overrides);
-  return params;
+  return harness::without_damping(model, overrides);
 }
 
 /// One thread for a spin: on 72 vertices the models' parallel loops only wait for each other, and
@@ -128,42 +89,12 @@ class OneThread {
   int threads_;
 };
 
-Spin spin(const std::string& model, const nlohmann::json& params, double dt) {
+/// 3 rad/s about (1, 2, 3)/sqrt(14) for 2 s at `dt`.
+SpinResult spin(const std::string& model, const nlohmann::json& params, double dt) {
   const OneThread one_thread;
-  const TetMesh& mesh = spin_box();
-  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
-  const Eigen::VectorXd masses = lumped_masses(mesh, kMaterial.density);
-  const Eigen::Vector3d centre = centre_of_mass(rest, masses);
-  const Eigen::Matrix<double, 3, 2> box = bounding_box(rest);
-  const double diagonal = (box.col(1) - box.col(0)).norm();
-  const Eigen::Vector3d omega = kRate * Eigen::Vector3d(1.0, 2.0, 3.0).normalized();
-  Eigen::Matrix3Xd velocities(3, rest.cols());
-  for (Eigen::Index i = 0; i < rest.cols(); ++i) {
-    velocities.col(i) = omega.cross(rest.col(i) - centre);
-  }
-
-  const std::unique_ptr<SoftBody> body =
-      builtin_models().at(model).create(mesh, kMaterial, params, ParamSource{});
-  body->set_velocities(velocities);
-  const Eigen::Vector3d initial = angular_momentum(rest, velocities, masses);
-  StepInput input;
-  input.gravity.setZero();
-  Spin result;
-  const int steps = static_cast<int>(std::lround(kDuration / dt));
-  for (int step = 0; step < steps; ++step) {
-    if (!body->step(dt, input).finite) {
-      result.finite = false;
-      return result;
-    }
-    const Eigen::Matrix3Xd& x = body->positions();
-    result.momentum_drift = std::max(
-        result.momentum_drift,
-        (angular_momentum(x, body->velocities(), masses) - initial).norm() / initial.norm());
-    result.shape_error = std::max(result.shape_error, rigid_fit_rms(x, rest) / diagonal);
-    result.centre_drift =
-        std::max(result.centre_drift, (centre_of_mass(x, masses) - centre).norm() / diagonal);
-  }
-  return result;
+  harness::SpinMotion motion;
+  motion.dt = dt;
+  return harness::free_spin(model, params, spin_box(), kMaterial, motion);
 }
 
 std::string percent(double fraction) {
@@ -173,7 +104,7 @@ std::string percent(double fraction) {
 class FreeSpin : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(FreeSpin, KeepsItsShapeAndItsCentreOfMassAtTheScenesStep) {
-  const Spin result = spin(GetParam(), undamped(GetParam()), kSceneStep);
+  const SpinResult result = spin(GetParam(), undamped(GetParam()), kSceneStep);
   ASSERT_TRUE(result.finite);
   EXPECT_LT(result.shape_error, kShapeBound) << percent(result.shape_error);
   EXPECT_LT(result.centre_drift, kCentreBound) << result.centre_drift;
@@ -189,8 +120,8 @@ TEST_P(FreeSpin, KeepsItsShapeAndItsCentreOfMassAtTheScenesStep) {
 constexpr double kFirstOrder = 3.0;
 
 void expect_first_order(const std::string& model, const nlohmann::json& params) {
-  const Spin coarse = spin(model, params, 1.0 / 120.0);
-  const Spin fine = spin(model, params, 1.0 / 480.0);
+  const SpinResult coarse = spin(model, params, 1.0 / 120.0);
+  const SpinResult fine = spin(model, params, 1.0 / 480.0);
   ASSERT_TRUE(coarse.finite && fine.finite) << model << " " << params.dump();
   ::testing::Test::RecordProperty(model + "_angular_momentum_drift_at_1_120",
                                   percent(coarse.momentum_drift));
@@ -207,8 +138,8 @@ TEST_P(FreeSpin, LosesAngularMomentumOnlyAtFirstOrderInTheTimeStep) {
   // test below checks both models without them.
   if (GetParam() == "shape_matching" || GetParam() == "corotational_fem") {
     const nlohmann::json params = undamped(GetParam());
-    const Spin coarse = spin(GetParam(), params, 1.0 / 120.0);
-    const Spin fine = spin(GetParam(), params, 1.0 / 480.0);
+    const SpinResult coarse = spin(GetParam(), params, 1.0 / 120.0);
+    const SpinResult fine = spin(GetParam(), params, 1.0 / 480.0);
     GTEST_SKIP() << (GetParam() == "shape_matching"
                          ? "shape_matching's default rotation extraction (2 warm-started "
                            "quaternion iterations a step) lags a spinning cluster and loses a "
@@ -258,7 +189,7 @@ TEST(FreeSpinConserving, KeepsItsAngularMomentumAndShapeWithinOnePercent) {
     cases.push_back({"bullet_deformable", {{"implicit", false}}, 1.0 / 480.0, 1e-12});
   }
   for (const Conserving& c : cases) {
-    const Spin result = spin(c.model, undamped(c.model, c.params), c.dt);
+    const SpinResult result = spin(c.model, undamped(c.model, c.params), c.dt);
     ASSERT_TRUE(result.finite) << c.model;
     RecordProperty(c.model + "_angular_momentum_drift", percent(result.momentum_drift));
     RecordProperty(c.model + "_shape_error", percent(result.shape_error));

@@ -347,11 +347,23 @@ TEST_F(SceneLoader, RejectsNegativeYoungModulus) {
             "/material/young_modulus: expected a positive number (Pa), got -3000");
 }
 
+TEST_F(SceneLoader, ReadsSupportsAndWritesThemBack) {
+  const Scene scene = load(R"({"supports": [{"point": [0, 0, 0], "normal": [0, 0, 2]},
+                                            {"point": [0.1, 0, 0], "normal": [1, 0, 0],
+                                             "tolerance": 0.001}]})");
+  ASSERT_EQ(scene.supports.size(), 2u);
+  EXPECT_EQ(scene.supports[0].normal, Eigen::Vector3d(0, 0, 1));  // made unit
+  EXPECT_EQ(scene.supports[1].tolerance, 0.001);
+  EXPECT_EQ(to_json(scene)["supports"].size(), 2u);
+  EXPECT_EQ(error_for(R"({"supports": [{"point": [0, 0, 0], "normal": [0, 0, 0]}]})"),
+            "/supports/0/normal: expected a non-zero [x, y, z], got [0,0,0]");
+}
+
 TEST_F(SceneLoader, RejectsAnUnknownTopLevelKey) {
   EXPECT_EQ(error_for(R"({"gravty": [0, 0, -9.81]})"),
             "/gravty: unknown key (known here: description, fixed, grasp, gravity, "
             "initial_velocity, instrument, limits, material, mesh, models, name, requirements, "
-            "time)");
+            "supports, time)");
 }
 
 TEST_F(SceneLoader, RejectsAnUnknownNestedKey) {

@@ -71,6 +71,26 @@ TEST(FixedVertices, SelectsAPlaneBandOnBothSidesOfThePlane) {
   EXPECT_EQ(fixed_vertices(scene, box_mesh()).size(), 27u);
 }
 
+TEST(SupportedVertices, HoldAlongEachSupportsNormalAndLeaveTheFixedOnesFixed) {
+  Scene scene = box_scene();
+  scene.fixed.box = Box{{-1.0, -1.0, -1.0}, {1.0, 1.0, 0.0}};  // the bottom layer
+  scene.supports = {Plane{{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, 1e-9},
+                    Plane{{0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, 1e-9}};
+  const std::vector<SupportedVertex> supported = supported_vertices(scene, box_mesh());
+  // The faces x = 0 and y = 0 above the bottom layer: 2 layers of 5 vertices.
+  ASSERT_EQ(supported.size(), 10u);
+  for (const SupportedVertex& s : supported) {
+    EXPECT_GE(s.vertex, 9) << "a fixed vertex";
+    const int i = s.vertex % 3;
+    const int j = (s.vertex / 3) % 3;
+    Eigen::Matrix3d expected = Eigen::Matrix3d::Zero();
+    expected(0, 0) = i == 0 ? 1.0 : 0.0;
+    expected(1, 1) = j == 0 ? 1.0 : 0.0;
+    // On both planes (the edge x = y = 0): held across the line, free along z.
+    EXPECT_TRUE(s.held.isApprox(expected, 1e-12)) << s.vertex << "\n" << s.held;
+  }
+}
+
 TEST(FixedVertices, SelectsAnObliquePlaneBand) {
   Scene scene = box_scene();
   // The diagonal plane x + y = 0.1 (through the box's centre, normal (1, 1, 0)/sqrt 2), band of
