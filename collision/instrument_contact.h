@@ -19,9 +19,13 @@
 // force pressed the tissue away from the instrument (an active set); a pressed vertex the
 // instrument withdraws from along the contact normal follows it while it presses (implicit
 // models spring back within a step), and is let go, not pulled, once its force turns adhesive.
+// The contact is frictionless: a tissue vertex's target is held along the contact normal only
+// (VertexTarget::push; the vertex slides along the instrument), so the force on it, and on the
+// tool, is the normal force. A corner of a triangle an instrument point pushes is held fully.
 // Within the step, refine() settles that active set: after the body was stepped, a tissue
-// vertex's hold whose force pulled is dropped and a vertex that ended inside the instrument is
-// held on its surface, and the harness repeats the step from its start (SceneStepper::step).
+// vertex's hold whose force pulled is dropped, a vertex that ended inside the margin is held on
+// it, and a triangle that ended around an instrument point is held outside it; the harness
+// repeats the step from its start (SceneStepper::step).
 // The tissue and instrument BVHs are refitted and queried for intersecting triangle pairs every
 // step as well: that count is the thesis's measure of contact (table 4.2).
 #pragma once

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "geometry/shape_meshes.h"
 #include "geometry/tri_mesh.h"
 
 #include <Eigen/Core>
@@ -16,54 +17,9 @@
 // Closed, outward-oriented test surfaces made in code for the BVH and mesh-distance tests.
 namespace softbench::collision::test {
 
-/// An icosahedron subdivided `levels` times (20 * 4^levels triangles), projected onto the sphere
-/// of `radius` about the origin. Closed and outward oriented.
-inline TriMesh icosphere(int levels, double radius = 1.0) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  TriMesh mesh;
-  mesh.vertices.resize(3, 12);
-  mesh.vertices << -1, 1, -1, 1, 0, 0, 0, 0, t, t, -t, -t,  //
-      t, t, -t, -t, -1, 1, -1, 1, 0, 0, 0, 0,               //
-      0, 0, 0, 0, t, t, -t, -t, -1, 1, -1, 1;
-  mesh.triangles.resize(3, 20);
-  mesh.triangles << 0, 0, 0, 0, 0, 1, 5, 11, 10, 7, 3, 3, 3, 3, 3, 4, 2, 6, 8, 9,  //
-      11, 5, 1, 7, 10, 5, 11, 10, 7, 1, 9, 4, 2, 6, 8, 9, 4, 2, 6, 8,              //
-      5, 1, 7, 10, 11, 9, 4, 2, 6, 8, 4, 2, 6, 8, 9, 5, 11, 10, 7, 1;
-  for (int level = 0; level < levels; ++level) {
-    std::map<std::pair<int, int>, int> midpoint;
-    std::vector<Eigen::Vector3d> vertices;
-    for (Eigen::Index i = 0; i < mesh.vertices.cols(); ++i) {
-      vertices.push_back(mesh.vertices.col(i));
-    }
-    auto middle = [&](int a, int b) {
-      const auto key = std::minmax(a, b);
-      const auto [it, inserted] = midpoint.try_emplace(key, static_cast<int>(vertices.size()));
-      if (inserted) {
-        vertices.push_back(
-            0.5 * (vertices[static_cast<std::size_t>(a)] + vertices[static_cast<std::size_t>(b)]));
-      }
-      return it->second;
-    };
-    Eigen::Matrix3Xi triangles(3, 4 * mesh.triangles.cols());
-    for (Eigen::Index f = 0; f < mesh.triangles.cols(); ++f) {
-      const int a = mesh.triangles(0, f), b = mesh.triangles(1, f), c = mesh.triangles(2, f);
-      const int ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
-      triangles.col(4 * f) << a, ab, ca;
-      triangles.col(4 * f + 1) << b, bc, ab;
-      triangles.col(4 * f + 2) << c, ca, bc;
-      triangles.col(4 * f + 3) << ab, bc, ca;
-    }
-    mesh.triangles = triangles;
-    mesh.vertices.resize(3, static_cast<Eigen::Index>(vertices.size()));
-    for (std::size_t i = 0; i < vertices.size(); ++i) {
-      mesh.vertices.col(static_cast<Eigen::Index>(i)) = vertices[i];
-    }
-  }
-  for (Eigen::Index i = 0; i < mesh.vertices.cols(); ++i) {
-    mesh.vertices.col(i) = radius * mesh.vertices.col(i).normalized();
-  }
-  return mesh;
-}
+/// The icosphere of geometry/shape_meshes.h: `levels` subdivisions of an icosahedron, on a sphere
+/// of `radius` about the origin, closed and outward oriented.
+using ::softbench::icosphere;
 
 /// The surface of the box [0, size.x] x [0, size.y] x [0, size.z], each face an n x n grid of
 /// squares split into two triangles. Closed and outward oriented.
