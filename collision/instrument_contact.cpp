@@ -350,8 +350,7 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
 
 // The instrument's points the tissue ended around (a thin tip the tissue sprang back over as
 // the tool withdrew, faster than the tool): the triangle under each is held the margin outside
-// the point, as resolve() pushes it, its corners held fully so it stays under the point (a
-// corner sliding along the instrument is held fully instead; another keeps its hold).
+// the point, as resolve() pushes it, its corners held fully so it stays under the point.
 bool InstrumentContact::hold_tissue_around_points(const Eigen::Matrix3Xd& positions) {
   const double margin = options_.margin;
   tissue_distance_.update(positions);
@@ -390,10 +389,20 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Matrix3Xd& positi
         continue;
       }
       // A corner sliding along the instrument let the triangle slip past the point: held
-      // fully where the push puts it.
+      // fully where the push puts it. One held fully already (by an earlier pass, or by
+      // another point) goes as much further along the push as this point needs.
       for (VertexTarget& target : targets_) {
-        if (target.vertex == corners(corner) && target.slides) {
+        if (target.vertex != corners(corner)) {
+          continue;
+        }
+        if (target.slides) {
           target = hold;
+          changed = true;
+          continue;
+        }
+        const double further = (hold.target - target.target).dot(inward);
+        if (further > 1e-3 * margin) {
+          target.target += further * inward;
           changed = true;
         }
       }

@@ -124,7 +124,7 @@ void ConstraintElimination::rotate_sliding(BlockPattern& pattern,
   frames_.clear();
   for (const int c : constraints.exact_vertices()) {
     const PositionConstraint* constraint = constraints.of(c);
-    if (!constraint->slides()) {
+    if (constraint == nullptr || !constraint->slides()) {
       continue;
     }
     // The held directions first (the projector's eigenvalue-1 eigenvectors), then the free.
