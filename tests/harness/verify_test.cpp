@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 #include <string>
 
@@ -44,6 +45,13 @@ std::string describe(const CaseResult& result) {
 }
 
 const ModelUnderTest kFem{"corotational_fem"};
+
+/// `settings` without the command's wall-clock budget: a busy machine must not change a test's
+/// result.
+VerifySettings unhurried(VerifySettings settings) {
+  settings.max_wall_seconds = std::numeric_limits<double>::infinity();
+  return settings;
+}
 
 // --- the meshes made in code ---------------------------------------------------------------------
 
@@ -74,13 +82,13 @@ TEST(VerifyMeshes, IcosphereIsClosedOnItsSphere) {
 // --- the cases -----------------------------------------------------------------------------------
 
 TEST(VerifyPatch, CorotationalFemReproducesTheUniformStrain) {
-  const CaseResult result = patch_case(kFem, quick_verify_settings());
+  const CaseResult result = patch_case(kFem, unhurried(quick_verify_settings()));
   EXPECT_EQ(result.status, CaseStatus::kPass) << describe(result);
   EXPECT_LT(measure(result, "interior_error").value, verify_tolerance::kPatch);
 }
 
 TEST(VerifyRigidMotion, CorotationalFemStaysPutAndPlainLinearFemDoesNot) {
-  const VerifySettings settings = quick_verify_settings();
+  const VerifySettings settings = unhurried(quick_verify_settings());
   const CaseResult corotational = rigid_motion_case(kFem, settings);
   EXPECT_EQ(corotational.status, CaseStatus::kPass) << describe(corotational);
   // Plain linear FEM is not rotation invariant: the rotated rest shape is strained to it.
@@ -92,7 +100,7 @@ TEST(VerifyRigidMotion, CorotationalFemStaysPutAndPlainLinearFemDoesNot) {
 
 TEST(VerifyRigidMotion, AModelWithoutEnergyIsJudgedOnItsDisplacement) {
   const CaseResult result =
-      rigid_motion_case({"shape_matching", {{"rotation", "svd"}}}, quick_verify_settings());
+      rigid_motion_case({"shape_matching", {{"rotation", "svd"}}}, unhurried(quick_verify_settings()));
   EXPECT_FALSE(measure(result, "elastic_energy").judged());
   EXPECT_THAT(result.note, HasSubstr("no elastic energy"));
   // With exact rotations its goals are the moved shape itself (its default, warm-started
@@ -101,7 +109,7 @@ TEST(VerifyRigidMotion, AModelWithoutEnergyIsJudgedOnItsDisplacement) {
 }
 
 TEST(VerifyCantilever, CorotationalFemConvergesTowardEulerBernoulli) {
-  VerifySettings settings = quick_verify_settings();
+  VerifySettings settings = unhurried(quick_verify_settings());
   settings.beam_levels = {1, 2, 4};
   const CaseResult result = cantilever_case(kFem, settings);
   EXPECT_EQ(result.status, CaseStatus::kPass) << describe(result);
@@ -110,7 +118,7 @@ TEST(VerifyCantilever, CorotationalFemConvergesTowardEulerBernoulli) {
 }
 
 TEST(VerifyCantilever, AWrongYoungModulusInTheComparisonFails) {
-  VerifySettings settings = quick_verify_settings();
+  VerifySettings settings = unhurried(quick_verify_settings());
   settings.beam_levels = {1, 2, 4};
   settings.analytic_young_modulus = 0.1 * settings.beam_material.young_modulus;
   const CaseResult result = cantilever_case(kFem, settings);
@@ -131,7 +139,7 @@ TEST(VerifyHertz, CorotationalFemWithItsDefaultsPressesAsHertzSays) {
   // The command's own block (a quarter, on frictionless symmetry planes, 16k tets): the force
   // within 15% of Hertz's at 0.1, 0.2 and 0.3 R (0.96, 1.00, 1.01 measured), constant over each
   // hold and never falling while the sphere goes down (within 2%), no tet inverted.
-  const CaseResult result = hertz_case(kFem, default_verify_settings());
+  const CaseResult result = hertz_case(kFem, unhurried(default_verify_settings()));
   for (const char* name :
        {"force_ratio", "ratio_at_0.1R", "ratio_at_0.2R", "hold_drift", "largest_drop",
         "inverted_tets"}) {
@@ -146,7 +154,7 @@ TEST(VerifyHertz, CorotationalFemWithItsDefaultsPressesAsHertzSays) {
 TEST(VerifyHertz, CorotationalFemsDefaultSolverGivesTheExactSolvesContactForce) {
   // The same contact on the same mesh, solved exactly (CHOLMOD) at every pass of the active
   // set: the default CG's force within 1% at every depth.
-  const VerifySettings settings = quick_verify_settings();
+  const VerifySettings settings = unhurried(quick_verify_settings());
   const CaseResult fast = hertz_case(kFem, settings);
   const CaseResult exact = hertz_case({"corotational_fem", {{"solver", "cholmod"}}}, settings);
   for (const char* name : {"ratio_at_0.1R", "ratio_at_0.2R", "force_ratio"}) {
@@ -161,7 +169,7 @@ TEST(VerifyHertz, NeoHookeanPressesAsHertzSaysOnTheQuickBlock) {
   // block (2k tets) takes seconds: the force within 15% at every depth (1.09, 1.12, 1.13
   // measured), no tet inverted. Its step-to-step jitter (a 4% fall on this coarse block, where
   // a rim vertex holds a larger share of the force) is the command's to report.
-  const CaseResult result = hertz_case({"neo_hookean"}, quick_verify_settings());
+  const CaseResult result = hertz_case({"neo_hookean"}, unhurried(quick_verify_settings()));
   for (const char* name : {"force_ratio", "ratio_at_0.1R", "ratio_at_0.2R", "inverted_tets"}) {
     const Measure& m = measure(result, name);
     RecordProperty(name, std::to_string(m.value));
@@ -171,21 +179,21 @@ TEST(VerifyHertz, NeoHookeanPressesAsHertzSaysOnTheQuickBlock) {
 }
 
 TEST(VerifyFreeSpin, SymplecticEulerKeepsAngularMomentumAndBackwardEulerLosesIt) {
-  VerifySettings settings = quick_verify_settings();
+  VerifySettings settings = unhurried(quick_verify_settings());
   settings.spin.dt = 1.0 / 960.0;  // below the explicit integrator's stability limit
   const CaseResult symplectic = free_spin_case(
       {"mass_spring", {{"integrator", "symplectic_euler"}, {"damping", 0.0}}}, settings);
   EXPECT_EQ(symplectic.status, CaseStatus::kPass) << describe(symplectic);
   EXPECT_LT(measure(symplectic, "momentum_drift").value, 1e-10);
   // mass_spring's linearised backward Euler loses L at first order: tens of percent at 1/60 s.
-  const CaseResult backward = free_spin_case({"mass_spring"}, quick_verify_settings());
+  const CaseResult backward = free_spin_case({"mass_spring"}, unhurried(quick_verify_settings()));
   EXPECT_EQ(backward.status, CaseStatus::kFail) << describe(backward);
   EXPECT_GT(measure(backward, "momentum_drift").value, verify_tolerance::kSpinMomentum);
   EXPECT_TRUE(measure(backward, "shape_error").passes()) << describe(backward);
 }
 
 TEST(VerifySquashRelease, CorotationalFemRecovers) {
-  const CaseResult result = squash_release_case(kFem, quick_verify_settings());
+  const CaseResult result = squash_release_case(kFem, unhurried(quick_verify_settings()));
   EXPECT_EQ(result.status, CaseStatus::kPass) << describe(result);
   EXPECT_LT(measure(result, "residual").value, kRecoveredResidual);
 }
@@ -196,7 +204,7 @@ VerifyReport small_report() {
   VerifyOptions options;
   options.models = {"corotational_fem", "shape_matching"};
   options.cases = {"rigid_motion", "patch"};
-  options.settings = quick_verify_settings();
+  options.settings = unhurried(quick_verify_settings());
   return run_verify(options);
 }
 
