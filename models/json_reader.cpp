@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 namespace softbench {
 namespace {
@@ -227,24 +225,6 @@ void JsonReader::reject_unknown_keys() const {
       }
       fail(key, "unknown key (known here: " + known + ")");
     }
-  }
-}
-
-nlohmann::json parse_json_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) {
-    throw InputError(path + ": cannot open (no such file or not readable)");
-  }
-  std::stringstream text;
-  text << in.rdbuf();
-  try {
-    return nlohmann::json::parse(text.str(), nullptr, /*allow_exceptions=*/true,
-                                 /*ignore_comments=*/true);
-  } catch (const nlohmann::json::parse_error& error) {
-    // The parser's message carries "line L, column C"; keep it after the file name.
-    std::string message = error.what();
-    const auto at = message.find("parse error");
-    throw InputError(path + ": invalid JSON: " + message.substr(at == std::string::npos ? 0 : at));
   }
 }
 

@@ -78,8 +78,5 @@ class JsonReader {
   mutable std::set<std::string, std::less<>> read_keys_;
 };
 
-/// Parses a JSON file (// comments allowed) or throws InputError "<path>: cannot open ..." or
-/// "<path>: line L, column C: <parser message>".
-nlohmann::json parse_json_file(const std::string& path);
 
 }  // namespace softbench

@@ -22,6 +22,15 @@ namespace softbench::scenes {
 
 inline constexpr double kNever = std::numeric_limits<double>::infinity();
 
+/// The most time steps a scene may take (duration / dt). Runs size per-step records by it, so a
+/// dt of 1e-300 would otherwise ask for more memory than exists (and overflow num_steps()'s
+/// int); the loader rejects a scene over it before anything is allocated. 10 million is
+/// 46 hours of scene time at the thesis's 1/60 s.
+inline constexpr int kMaxSteps = 10'000'000;
+/// ceil(duration / dt) as a double, so it can be compared with kMaxSteps before it becomes an
+/// int (1e9 s at dt = 1e-300 is infinite).
+double step_count(double duration, double dt);
+
 struct Box {
   Eigen::Vector3d min = Eigen::Vector3d::Zero();
   Eigen::Vector3d max = Eigen::Vector3d::Zero();
@@ -159,7 +168,7 @@ struct Scene {
   /// overrides.
   void override_parameters(const std::string& model, const nlohmann::json& settings);
 
-  int num_steps() const;  ///< ceil(duration / dt)
+  int num_steps() const;  ///< ceil(duration / dt), at most kMaxSteps once loaded
   /// s: when the loads that recovery is measured after are let go (the grasp's release, else
   /// gravity's off time); kNever if nothing is released.
   double release_time() const;

@@ -6,6 +6,7 @@
 #include "geometry/text_format.h"
 #include "models/json_reader.h"
 #include "models/material.h"
+#include "models/json_file.h"
 #include "scenes/scene.h"
 
 #include <Eigen/Core>
@@ -121,6 +122,12 @@ void read_time(const JsonReader& root, Scene& scene) {
   scene.dt = in.number_or("dt", kDefaultTimeStep, Range::positive());
   if (scene.dt > scene.duration) {
     in.fail_expected("dt", "a number <= duration (" + format_number(scene.duration) + ")");
+  }
+  const double steps = step_count(scene.duration, scene.dt);
+  if (steps > kMaxSteps) {
+    in.fail("duration", format_number(scene.duration) + " s at dt = " + format_number(scene.dt)
+                            + " s is " + format_number(steps, 3) + " steps, over the limit of "
+                            + std::to_string(kMaxSteps) + " (shorten duration or raise dt)");
   }
 }
 
@@ -371,16 +378,20 @@ void Scene::override_parameters(const std::string& model, const nlohmann::json& 
   block.update(settings);
 }
 
-int Scene::num_steps() const {
-  // 3.5 s at dt = 1/60 is 210.00000000000003 steps in floating point: a ratio within rounding
-  // of an integer counts as that integer, so a dt that divides the duration adds no extra step.
+// 3.5 s at dt = 1/60 is 210.00000000000003 steps in floating point: a ratio within rounding of
+// an integer counts as that integer, so a dt that divides the duration adds no extra step.
+double step_count(double duration, double dt) {
   const double ratio = duration / dt;
   const double nearest = std::round(ratio);
   constexpr double kRelativeSlack = 1e-9;
   if (std::abs(ratio - nearest) <= kRelativeSlack * std::max(1.0, nearest)) {
-    return static_cast<int>(nearest);
+    return nearest;
   }
-  return static_cast<int>(std::ceil(ratio));
+  return std::ceil(ratio);
+}
+
+int Scene::num_steps() const {
+  return static_cast<int>(step_count(duration, dt));
 }
 
 double Scene::release_time() const {
@@ -404,7 +415,7 @@ double Scene::reference_time() const {
 }
 
 Scene load_scene(const std::filesystem::path& path) {
-  return parse_scene(parse_json_file(path.string()), path);
+  return parse_scene(read_json_file(path, "scene file"), path);
 }
 
 Scene parse_scene(const nlohmann::json& json, const std::filesystem::path& source) {

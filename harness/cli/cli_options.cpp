@@ -5,6 +5,9 @@
 
 #include <unistd.h>
 
+#include <cctype>
+#include <cstddef>
+
 namespace softbench::harness {
 
 void add_scene_argument(CLI::App& command, std::string& scene) {
@@ -37,6 +40,23 @@ scenes::Scene load_scene_with_mesh(const std::string& file, const std::string& m
     override_mesh(scene, mesh);
   }
   return scene;
+}
+
+std::string folder_name(const std::string& name) {
+  constexpr std::size_t kMaxLength = 100;  // well inside a file system's 255-byte name limit
+  std::string folder = name.substr(0, kMaxLength);
+  for (char& c : folder) {
+    const bool safe = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-'
+                      || c == '.';
+    if (!safe) {
+      c = '_';
+    }
+  }
+  // A leading dot would make "." or ".." (or a hidden folder).
+  for (std::size_t i = 0; i < folder.size() && folder[i] == '.'; ++i) {
+    folder[i] = '_';
+  }
+  return folder.empty() ? std::string("_") : folder;
 }
 
 std::filesystem::path out_dir_or(const std::string& given, const std::filesystem::path& fallback) {

@@ -25,7 +25,7 @@ struct RunArguments {
 void run(const RunArguments& arguments) {
   const scenes::Scene scene = load_scene_with_mesh(arguments.scene, arguments.mesh);
   const std::filesystem::path out_dir =
-      out_dir_or(arguments.out_dir, std::filesystem::path("out") / scene.name);
+      out_dir_or(arguments.out_dir, std::filesystem::path("out") / folder_name(scene.name));
   const SceneMesh mesh = read_scene_mesh(scene);
   RunOptions options;
   options.models = arguments.models;

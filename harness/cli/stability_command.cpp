@@ -30,7 +30,7 @@ struct StabilityArguments {
 void stability(const StabilityArguments& arguments) {
   const scenes::Scene scene = scenes::load_scene(arguments.scene);
   const std::filesystem::path out_dir =
-      out_dir_or(arguments.out_dir, std::filesystem::path("out") / (scene.name + "_stability"));
+      out_dir_or(arguments.out_dir, std::filesystem::path("out") / folder_name(scene.name + "_stability"));
   StabilityOptions options;
   options.models = arguments.models;
   options.settings = arguments.quick ? quick_stability_settings() : default_stability_settings();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/cli/sweep_output.h"
 
+#include "harness/cli/cli_options.h"
 #include "harness/report/python_plot.h"
 
 #include <iostream>
@@ -9,7 +10,7 @@
 namespace softbench::harness {
 
 std::filesystem::path default_sweep_dir(const std::string& scene_name) {
-  return std::filesystem::path("out") / "sweep" / scene_name;
+  return std::filesystem::path("out") / "sweep" / folder_name(scene_name);
 }
 
 void plot_sweep(const std::filesystem::path& out_dir) {

@@ -11,7 +11,7 @@
 
 namespace softbench::harness {
 
-/// out/sweep/<scene>.
+/// out/sweep/<scene> (the name made safe by folder_name()).
 std::filesystem::path default_sweep_dir(const std::string& scene_name);
 /// Draws out_dir/sweep.png from out_dir/sweep.json (tools/plot_sweep.py).
 void plot_sweep(const std::filesystem::path& out_dir);

@@ -7,6 +7,7 @@
 #include "harness/run/runner.h"
 #include "models/json_reader.h"
 #include "models/model_registry.h"
+#include "models/json_file.h"
 
 #include <fstream>
 
@@ -71,7 +72,7 @@ ReferenceRun reference_run(const scenes::Scene& scene,
                               {"build", build_fingerprint()}};
   const std::filesystem::path cache = cache_dir / (stable_hash(key.dump()) + ".json");
   if (std::filesystem::exists(cache)) {
-    return reference_from_json(parse_json_file(cache.string()));
+    return reference_from_json(read_json_file(cache.string()));
   }
 
   RunOptions options;

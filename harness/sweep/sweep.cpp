@@ -3,13 +3,15 @@
 
 #include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
+#include "geometry/text_format.h"
 #include "harness/format.h"
 #include "harness/provenance.h"
-#include "models/json_reader.h"
 #include "models/model_registry.h"
+#include "models/json_file.h"
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -163,6 +165,14 @@ std::vector<SweepPoint> sweep_grid(const scenes::Scene& scene,
       point.model = name;
       point.settings = settings;
       point.dt = settings.contains("dt") ? settings["dt"].get<double>() : scene.dt;
+      // The loader bounds the scene's own dt; a swept dt must meet the same step limit.
+      const double steps = scenes::step_count(scene.duration, point.dt);
+      if (steps > scenes::kMaxSteps) {
+        throw InputError("--param model.dt: dt = " + format_number(point.dt) + " s is "
+                         + format_number(steps, 3) + " steps of the scene's "
+                         + format_number(scene.duration) + " s, over the limit of "
+                         + std::to_string(scenes::kMaxSteps));
+      }
       point.id = stable_hash(scene_key + "\n" + name + "\n" + settings.dump());
       points.push_back(point);
     }
@@ -192,6 +202,15 @@ SweepRecord sweep_record_from_json(const nlohmann::json& json, const std::string
   try {
     SweepRecord record;
     record.point.id = json.at("id").get<std::string>();
+    // The id names the file merge writes (runs/<id>.json): from a file given on the command
+    // line it must be a name, not a path ("../../x").
+    const std::string& id = record.point.id;
+    if (id.empty() || id.size() > 64 || !std::all_of(id.begin(), id.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-';
+        })) {
+      throw InputError(where + ": /id: expected a run id (letters, digits, '_' or '-'), got "
+                       + json.at("id").dump());
+    }
     record.point.model = json.at("model").get<std::string>();
     record.point.dt = json.at("dt").get<double>();
     record.point.settings = json.at("settings");
@@ -227,7 +246,8 @@ std::vector<SweepRecord> read_sweep_runs(const std::vector<std::filesystem::path
     for (const auto& entry : std::filesystem::directory_iterator(runs)) {
       if (entry.path().extension() == ".json") {
         SweepRecord record =
-            sweep_record_from_json(parse_json_file(entry.path().string()), entry.path().string());
+            sweep_record_from_json(read_json_file(entry.path(), "sweep run record"),
+                                   entry.path().string());
         by_id.emplace(record.point.id, std::move(record));
       }
     }

@@ -12,6 +12,7 @@
 #include "scenes/shipped_data.h"
 #include "tests/harness/plot_checks.h"
 #include "tests/test_meshes.h"
+#include "models/json_file.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -421,7 +422,7 @@ TEST(CompareEndToEnd, RunsTwoModelsAndTheLinearVariantAndWritesTheReports) {
 
   const std::filesystem::path out = dir.path() / "out";
   write_comparison(out, comparison);
-  const nlohmann::json json = parse_json_file((out / "compare.json").string());
+  const nlohmann::json json = read_json_file((out / "compare.json").string());
   EXPECT_EQ(comparison_json(comparison_from_json(json)), json);
   EXPECT_EQ(json["scenes"][0]["runs"][0]["series"]["time"].size(), 90u);
   std::ostringstream markdown;

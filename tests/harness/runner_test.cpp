@@ -8,6 +8,7 @@
 #include "models/json_reader.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
+#include "models/json_file.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -108,7 +109,7 @@ TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
   const scenes::Scene bar = scene("{}");
   const std::vector<ModelRun> runs = run_scene(bar, options);
   write_reports(dir_.path() / "out", bar, runs);
-  const nlohmann::json metrics = parse_json_file((dir_.path() / "out" / "metrics.json").string());
+  const nlohmann::json metrics = read_json_file((dir_.path() / "out" / "metrics.json").string());
   ASSERT_EQ(metrics["runs"].size(), 1u);
   const nlohmann::json& run = metrics["runs"][0];
   for (const char* key : {"model", "params", "mesh", "timing", "stability", "shape", "recovery",

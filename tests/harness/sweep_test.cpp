@@ -117,6 +117,30 @@ TEST_F(SweepTest, GridLeavesOutTheReferenceAndRejectsAnAxisForAnotherModel) {
   }
 }
 
+// A swept dt meets the scene loader's step limit: 0.4 s at 1e-300 s would not fit in memory.
+TEST_F(SweepTest, GridRejectsADtOverTheStepLimit) {
+  try {
+    sweep_grid(scene(), "mesh", {parse_sweep_axis("model.dt=1e-300")}, {"mass_spring"}, "");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(),
+                 "--param model.dt: dt = 1e-300 s is 4e+299 steps of the scene's 0.4 s, over the "
+                 "limit of 10000000");
+  }
+}
+
+// merge writes each record it reads as runs/<id>.json: an id from a file must not be a path.
+TEST_F(SweepTest, RejectsARecordWhoseIdIsAPath) {
+  nlohmann::json json = {{"id", "../../x"}};
+  try {
+    sweep_record_from_json(json, "r.json");
+    FAIL() << "expected an InputError";
+  } catch (const InputError& error) {
+    EXPECT_STREQ(error.what(),
+                 "r.json: /id: expected a run id (letters, digits, '_' or '-'), got \"../../x\"");
+  }
+}
+
 TEST(SweepAccuracy, IsZeroOnTheReferenceAndScalesWithTheOffset) {
   const Eigen::Matrix3Xd rest = Eigen::Matrix3Xd::Zero(3, 4);
   ReferenceRun reference;

@@ -63,15 +63,6 @@ TEST(JsonReader, FillsDefaultsForAbsentOptionalKeys) {
   EXPECT_TRUE(time.boolean_or("adaptive", true));
 }
 
-TEST(ParseJsonFile, NamesTheFileAndLineOfASyntaxError) {
-  const test::TempDir dir;
-  const auto path = dir.write("bad.json", "{\n  // a comment is fine\n  \"a\": 1,\n  \"b\": }\n");
-  EXPECT_THAT(error_of([&] { parse_json_file(path.string()); }),
-              HasSubstr("bad.json: invalid JSON: parse error at line 4"));
-  EXPECT_THAT(error_of([&] { parse_json_file((dir.path() / "none.json").string()); }),
-              HasSubstr("none.json: cannot open"));
-}
-
 struct ExampleParams {
   enum class Mode { kFast, kExact };
   double stiffness = 2.0;

@@ -575,7 +575,47 @@ TEST_F(SceneLoader, RejectsARootThatIsNotAnObject) {
 
 TEST_F(SceneLoader, RejectsAMissingSceneFile) {
   const std::filesystem::path file = dir_.path() / "absent.json";
-  EXPECT_EQ(error_loading(file), "cannot open (no such file or not readable)");
+  EXPECT_EQ(error_loading(file), "no such file");
+}
+
+TEST_F(SceneLoader, RejectsAFolderGivenAsTheSceneFile) {
+  EXPECT_EQ(error_loading(dir_.path()), "is a folder, not a scene file");
+}
+
+// 100,000 levels would overflow the stack in nlohmann's recursive dump and destruction (exit
+// 139); the parse stops at kMaxJsonDepth instead.
+TEST_F(SceneLoader, RejectsAValueNestedDeeperThanTheLimit) {
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  EXPECT_EQ(error_loading(dir_.write("deep.json", R"({"name": "x", "description": )" + deep + "}")),
+            "/description: nested deeper than 64 levels of arrays and objects (the limit)");
+  const std::string deep_object = [] {
+    std::string text;
+    for (int i = 0; i < 100000; ++i) {
+      text += R"({"a": )";
+    }
+    return text + "1" + std::string(100000, '}');
+  }();
+  EXPECT_EQ(error_loading(dir_.write("deep_model.json",
+                                     R"({"models": {"mass_spring": )" + deep_object + "}}")),
+            "/models: nested deeper than 64 levels of arrays and objects (the limit)");
+}
+
+TEST_F(SceneLoader, RejectsANumberBeyondADoubleNamingTheLine) {
+  const std::filesystem::path file = dir_.write(
+      "huge.json", "{\n  \"name\": \"x\",\n  \"time\": {\"duration\": 1e400}\n}\n");
+  EXPECT_EQ(error_loading(file),
+            "invalid JSON: number out of range at line 3, column 24: 1e400 (beyond a double)");
+}
+
+// The step count is checked before anything is sized by it: these gave bad_alloc.
+TEST_F(SceneLoader, RejectsMoreTimeStepsThanTheLimit) {
+  EXPECT_EQ(error_for(R"({"time": {"dt": 1e-300, "duration": 1.0}})"),
+            "/time/duration: 1 s at dt = 1e-300 s is 1e+300 steps, over the limit of 10000000 "
+            "(shorten duration or raise dt)");
+  EXPECT_EQ(error_for(R"({"time": {"dt": null, "duration": 1e9}})"),
+            "/time/duration: 1e+09 s at dt = 0.0166667 s is 6e+10 steps, over the limit of "
+            "10000000 (shorten duration or raise dt)");
+  EXPECT_EQ(load(R"({"time": {"dt": 0.01, "duration": 100000.0}})").num_steps(), kMaxSteps);
 }
 
 TEST(Scene, CountsStepsRoundingUpOnlyBeyondFloatingPointNoise) {
