@@ -122,7 +122,7 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
   const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
   pressed_.assign(vertices, 0);
   dropped_.assign(vertices, 0);
-  targeted_.assign(vertices, 0);
+  target_index_.assign(vertices, -1);
   has_move_.assign(vertices, 0);
   last_push_.assign(vertices, Eigen::Vector3d::Zero());
   move_.assign(vertices, Eigen::Vector3d::Zero());
@@ -317,15 +317,15 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
   // to step. A hold dropped this step comes back only if its vertex ended inside the instrument
   // itself (the other holds' changes pushed it in); in the band it stays free, so a
   // hold that pulls cannot be taken again and again within a step.
-  for (const VertexTarget& target : targets_) {
-    targeted_[static_cast<std::size_t>(target.vertex)] = 1;
+  for (std::size_t k = 0; k < targets_.size(); ++k) {
+    target_index_[static_cast<std::size_t>(targets_[k].vertex)] = static_cast<int>(k);
   }
   const double margin = options_.margin;
   const Aabb reach = inflated(instrument_tree_.nodes().front().box, margin);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (const int vertex : surface_vertices_) {
     const auto v = static_cast<std::size_t>(vertex);
-    if (targeted_[v] != 0 || !reach.contains(positions.col(vertex))) {
+    if (target_index_[v] >= 0 || !reach.contains(positions.col(vertex))) {
       continue;
     }
     const Eigen::Vector3d local = to_local * positions.col(vertex);
@@ -337,13 +337,14 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
     const Eigen::Vector3d out_local = nearest.signed_distance < 0.0
                                           ? direction(local, nearest.point, nearest.normal)
                                           : direction(nearest.point, local, nearest.normal);
+    target_index_[v] = static_cast<int>(targets_.size());
     targets_.push_back(
         {vertex, pose * (nearest.point + margin * out_local), pose.linear() * out_local});
     changed = true;
   }
   changed = hold_tissue_around_points(positions) || changed;
   for (const VertexTarget& target : targets_) {
-    targeted_[static_cast<std::size_t>(target.vertex)] = 0;
+    target_index_[static_cast<std::size_t>(target.vertex)] = -1;
   }
   return changed;
 }
@@ -382,29 +383,25 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Matrix3Xd& positi
                               positions.col(corners(corner))
                                   + (w(corner) / weight_norm * shortfall) * inward,
                               inward, /*slides=*/false};
-      if (targeted_[v] == 0) {
+      if (target_index_[v] < 0) {
+        target_index_[v] = static_cast<int>(targets_.size());
         targets_.push_back(hold);
-        targeted_[v] = 1;
         changed = true;
         continue;
       }
       // A corner sliding along the instrument let the triangle slip past the point: held
       // fully where the push puts it. One held fully already (by an earlier pass, or by
       // another point) goes as much further along the push as this point needs.
-      for (VertexTarget& target : targets_) {
-        if (target.vertex != corners(corner)) {
-          continue;
-        }
-        if (target.slides) {
-          target = hold;
-          changed = true;
-          continue;
-        }
-        const double further = (hold.target - target.target).dot(inward);
-        if (further > 1e-3 * margin) {
-          target.target += further * inward;
-          changed = true;
-        }
+      VertexTarget& target = targets_[static_cast<std::size_t>(target_index_[v])];
+      if (target.slides) {
+        target = hold;
+        changed = true;
+        continue;
+      }
+      const double further = (hold.target - target.target).dot(inward);
+      if (further > 1e-3 * margin) {
+        target.target += further * inward;
+        changed = true;
       }
     }
   }

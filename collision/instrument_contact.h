@@ -123,7 +123,8 @@ class InstrumentContact {
   bool hold_tissue_around_points(const Eigen::Matrix3Xd& positions);
   /// Per tissue vertex: 1 once refine() dropped its target this step (it is not taken again).
   std::vector<char> dropped_;
-  std::vector<char> targeted_;  ///< per tissue vertex: 1 while it has a target (refine's scratch)
+  /// Per tissue vertex: its target's index in targets_ while refine() runs, else -1.
+  std::vector<int> target_index_;
   std::vector<int> dropped_vertices_;  ///< where dropped_ is set, to clear it at the next step
   bool follows_withdrawal(int vertex,
                           const Eigen::Vector3d& local_point,

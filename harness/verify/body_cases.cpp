@@ -71,10 +71,8 @@ std::vector<PositionConstraint> pinned_at_rest(const TetMesh& mesh, const std::v
 }  // namespace
 
 CaseResult patch_case(const ModelUnderTest& model, const VerifySettings& settings) {
-  const OneThread one_thread;
-  const Stopwatch watch;
-  CaseResult result;
-  result.name = "patch";
+  CaseRun run("patch");
+  CaseResult& result = run.result;
   const double size = settings.patch_size;
   const int n = settings.patch_cells;
   const TetMesh mesh = make_tet_mesh(box_tets(n, n, n, size, size, size));
@@ -123,16 +121,12 @@ CaseResult patch_case(const ModelUnderTest& model, const VerifySettings& setting
                     {"imposed_displacement_m", imposed},
                     {"steps", outcome.steps},
                     {"settled", outcome.settled}};
-  judge(result);
-  result.seconds = watch.seconds();
-  return result;
+  return run.finish();
 }
 
 CaseResult rigid_motion_case(const ModelUnderTest& model, const VerifySettings& settings) {
-  const OneThread one_thread;
-  const Stopwatch watch;
-  CaseResult result;
-  result.name = "rigid_motion";
+  CaseRun run("rigid_motion");
+  CaseResult& result = run.result;
   const TetMesh& mesh = spin_box();
   const Eigen::Matrix3Xd& rest = mesh.rest_positions();
   const double diagonal = bounding_box_diagonal(rest);
@@ -184,16 +178,12 @@ CaseResult rigid_motion_case(const ModelUnderTest& model, const VerifySettings& 
                     {"axis", {1.0, 2.0, 3.0}},
                     {"translation_m", {translation.x(), translation.y(), translation.z()}},
                     {"steps", steps}};
-  judge(result);
-  result.seconds = watch.seconds();
-  return result;
+  return run.finish();
 }
 
 CaseResult cantilever_case(const ModelUnderTest& model, const VerifySettings& settings) {
-  const OneThread one_thread;
-  const Stopwatch watch;
-  CaseResult result;
-  result.name = "cantilever";
+  CaseRun run("cantilever");
+  CaseResult& result = run.result;
   const double length = settings.beam_length;
   const double side = settings.beam_side;
   const Material& material = settings.beam_material;
@@ -277,16 +267,12 @@ CaseResult cantilever_case(const ModelUnderTest& model, const VerifySettings& se
                     {"density", material.density},
                     {"euler_bernoulli_deflection_m", analytic},
                     {"levels", levels}};
-  judge(result);
-  result.seconds = watch.seconds();
-  return result;
+  return run.finish();
 }
 
 CaseResult free_spin_case(const ModelUnderTest& model, const VerifySettings& settings) {
-  const OneThread one_thread;
-  const Stopwatch watch;
-  CaseResult result;
-  result.name = "free_spin";
+  CaseRun run("free_spin");
+  CaseResult& result = run.result;
   const SpinResult spin = free_spin(model.name, without_damping(model.name, model.params),
                                     spin_box(), settings.material, settings.spin);
   if (!spin.finite) {
@@ -309,16 +295,12 @@ CaseResult free_spin_case(const ModelUnderTest& model, const VerifySettings& set
                     {"dt_s", settings.spin.dt},
                     {"damping_off", builtin_models().at(model.name).settling_damping},
                     {"steps", spin.steps_run}};
-  judge(result);
-  result.seconds = watch.seconds();
-  return result;
+  return run.finish();
 }
 
 CaseResult squash_release_case(const ModelUnderTest& model, const VerifySettings& settings) {
-  const OneThread one_thread;
-  const Stopwatch watch;
-  CaseResult result;
-  result.name = "squash_release";
+  CaseRun run("squash_release");
+  CaseResult& result = run.result;
   const TetMesh& mesh = spin_box();
   const std::vector<int> fixed = min_x_face(mesh);
   const std::unique_ptr<SoftBody> body =
@@ -351,9 +333,7 @@ CaseResult squash_release_case(const ModelUnderTest& model, const VerifySettings
   if (verdict.final_inverted_tets > 0) {
     add_note(result, std::to_string(verdict.final_inverted_tets) + " tets still inverted");
   }
-  judge(result);
-  result.seconds = watch.seconds();
-  return result;
+  return run.finish();
 }
 
 }  // namespace softbench::harness

@@ -14,6 +14,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 
 namespace softbench::harness::verify_detail {
 
@@ -90,6 +91,26 @@ class Stopwatch {
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+/// What every case does around its measurement: one thread and a stopwatch while it lives, the
+/// case's name on its result; finish() judges the result and stamps its time.
+class CaseRun {
+ public:
+  explicit CaseRun(std::string name) { result.name = std::move(name); }
+  double seconds() const { return watch_.seconds(); }
+  CaseResult finish() {
+    judge(result);
+    result.seconds = watch_.seconds();
+    return std::move(result);
+  }
+
+ private:
+  OneThread one_thread_;
+  Stopwatch watch_;
+
+ public:
+  CaseResult result;  ///< filled by the case
 };
 
 /// A short number for notes: 3 significant digits.

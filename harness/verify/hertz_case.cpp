@@ -51,10 +51,8 @@ std::vector<double> graded(double extent, double fine, double fine_extent, doubl
 }  // namespace
 
 CaseResult hertz_case(const ModelUnderTest& model, const VerifySettings& settings) {
-  const OneThread one_thread;
-  const Stopwatch watch;
-  CaseResult result;
-  result.name = "hertz";
+  CaseRun run("hertz");
+  CaseResult& result = run.result;
   const Material& material = settings.hertz_material;
 
   // The contact keeps the tissue `margin` outside the tool: against a sphere of radius R that
@@ -168,7 +166,7 @@ CaseResult hertz_case(const ModelUnderTest& model, const VerifySettings& setting
     if (end > read_times[forces.size()] - 0.5 * scene.dt) {
       forces.push_back(force);
     }
-    if (watch.seconds() > settings.max_wall_seconds) {
+    if (run.seconds() > settings.max_wall_seconds) {
       timed_out = forces.size() < read_times.size();
       break;
     }
@@ -232,9 +230,7 @@ CaseResult hertz_case(const ModelUnderTest& model, const VerifySettings& setting
                     {"sphere_triangles", mesh.instrument->num_triangles()},
                     {"steps", step},
                     {"depths", depths}};
-  judge(result);
-  result.seconds = watch.seconds();
-  return result;
+  return run.finish();
 }
 
 }  // namespace softbench::harness
