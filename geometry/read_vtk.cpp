@@ -206,8 +206,7 @@ class VtkReader {
                                  Decode decode) {
     std::vector<Value> values;
     if (binary_) {
-      const std::string_view bytes =
-          text_.read_bytes(static_cast<std::size_t>(count) * type.bytes, what);
+      const std::string_view bytes = text_.read_bytes(byte_count(count, type, what), what);
       values.reserve(static_cast<std::size_t>(count));
       for (std::size_t i = 0; i < bytes.size(); i += type.bytes) {
         values.push_back(decode(bytes.data() + i, values.size()));
@@ -232,7 +231,30 @@ class VtkReader {
     return read_values<std::int64_t>(
         count, type, what,
         [&](std::string_view token, std::size_t) { return text_.parse_integer(token, what); },
-        [&](const char* bytes, std::size_t) { return decode_integer(bytes, type); });
+        [&](const char* bytes, std::size_t) {
+          if (type.kind == VtkDataType::Kind::kReal) {
+            // An index stored as a float must be a whole number: 0.7 is no vertex, and a NaN
+            // cast to an integer is undefined.
+            const double value = decode_real(bytes, type);
+            if (!std::isfinite(value) || value != std::floor(value)
+                || std::abs(value) > 9.007199254740992e15) {
+              text_.fail(concat(what, ": value ", value, " is not a whole number"));
+            }
+            return static_cast<std::int64_t>(value);
+          }
+          return decode_integer(bytes, type);
+        });
+  }
+
+  // count values of `type` in bytes, checked against what is left of the file before it is
+  // multiplied: a count near 2^62 would wrap around to a small byte count and be accepted.
+  std::size_t byte_count(std::int64_t count, const VtkDataType& type, const std::string& what) {
+    const auto wanted = static_cast<std::uint64_t>(std::max<std::int64_t>(count, 0));
+    if (wanted > std::numeric_limits<std::size_t>::max() / type.bytes) {
+      text_.fail(concat("truncated: ", what, " needs ", count, " x ", type.bytes,
+                        " bytes of binary data, only ", text_.bytes_left(), " remain"));
+    }
+    return static_cast<std::size_t>(wanted * type.bytes);
   }
 
   // POINTS n type
@@ -355,7 +377,7 @@ class VtkReader {
       const VtkDataType& type = data_type(array[3]);
       const std::string what = concat("values of field array ", quoted_token(array[0]));
       if (binary_) {
-        text_.read_bytes(static_cast<std::size_t>(values) * type.bytes, what);
+        text_.read_bytes(byte_count(values, type, what), what);
       } else {
         text_.check_count_fits(values, what);
         for (std::int64_t i = 0; i < values; ++i) {

@@ -245,12 +245,14 @@ Eigen::Quaterniond read_rotation(const JsonReader& key) {
   const JsonReader in = key.object("rotation");
   allow_only(in, {"axis", "degrees"});
   const Eigen::Vector3d axis = in.vector3("axis");
-  if (axis.norm() == 0.0) {
+  // stableNorm: 1e200 squared overflows (norm() gives inf, normalized() zeros, the rotation
+  // became the identity) and 1e-200 squared underflows to a "zero" axis.
+  if (axis.stableNorm() == 0.0) {
     in.fail_expected("axis", "a non-zero vector");
   }
   const double degrees = in.number("degrees");
   return Eigen::Quaterniond(
-      Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized()));
+      Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.stableNormalized()));
 }
 
 InstrumentGrasp read_instrument_grasp(const JsonReader& instrument) {

@@ -4,6 +4,7 @@
 #include "tests/geometry/mesh_file_test_support.h"
 #include "tests/test_meshes.h"
 
+#include <limits>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -152,6 +153,52 @@ TEST(ReadVtk, ReadsBinaryVersion51UnstructuredGridWithDoubles) {
   EXPECT_EQ(mesh.tetrahedra.col(0), Eigen::Vector4i(0, 1, 2, 3));
   EXPECT_EQ(mesh.vertices(0, 0), 0.1);
   EXPECT_EQ(mesh.vertices(2, 3), 1.0 / 3.0);
+}
+
+// A 5.1 grid whose connectivity is stored as doubles: whole numbers read as indices.
+std::string binary51_with_double_connectivity(double third_index) {
+  ByteWriter out(std::endian::big);
+  out.text("# vtk DataFile Version 5.1\nvtk output\nBINARY\nDATASET UNSTRUCTURED_GRID\n");
+  out.text("POINTS 4 double\n");
+  for (double value : {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}) {
+    out.put(value);
+  }
+  out.text("\nCELLS 2 4\nOFFSETS double\n");
+  out.put(0.0).put(4.0);
+  out.text("\nCONNECTIVITY double\n");
+  for (double value : {0.0, 1.0, third_index, 3.0}) {
+    out.put(value);
+  }
+  out.text("\nCELL_TYPES 1\n");
+  out.put(std::int32_t{10});
+  out.text("\n");
+  return out.bytes();
+}
+
+TEST(ReadVtk, ReadsWholeNumberIndicesStoredAsDoublesAndRejectsOthers) {
+  TempDir dir;
+  const MeshData mesh = read_vtk(dir.write("whole.vtk", binary51_with_double_connectivity(2.0)));
+  EXPECT_EQ(mesh.tetrahedra.col(0), Eigen::Vector4i(0, 1, 2, 3));
+  // 0.7 is no vertex (truncating it to 0 made a degenerate tet); a NaN has no integer value.
+  const auto fraction = dir.write("fraction.vtk", binary51_with_double_connectivity(0.7));
+  EXPECT_THAT([&] { read_vtk(fraction); }, ThrowsInputError("value 0.7 is not a whole number"));
+  const auto nan = dir.write(
+      "nan.vtk", binary51_with_double_connectivity(std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_THAT([&] { read_vtk(nan); }, ThrowsInputError("is not a whole number"));
+}
+
+TEST(ReadVtk, RejectsABinaryFieldWhoseSizeWrapsAround) {
+  TempDir dir;
+  // 2147437309 components x 1073764994 tuples of doubles is 2^64 + 537552 bytes: multiplied in
+  // 64 bits it wrapped to 537552, and with that much data behind it the array was skipped as if
+  // the file held it.
+  ByteWriter out(std::endian::big);
+  out.text(std::string("# vtk DataFile Version 3.0\nvtk output\nBINARY\nDATASET POLYDATA\n")
+           + "FIELD FieldData 1\nHUGE 2147437309 1073764994 double\n");
+  out.text(std::string(537552, '\0'));
+  out.text("\n");
+  const auto path = dir.write("wrap.vtk", out.bytes());
+  EXPECT_THAT([&] { read_vtk(path); }, ThrowsInputError("truncated"));
 }
 
 TEST(ReadVtk, RejectsBinaryWithTooFewBytes) {

@@ -514,6 +514,19 @@ TEST_F(SceneLoader, RejectsAZeroRotationAxis) {
             "/instrument/path/0/rotation/axis: expected a non-zero vector, got [0,0,0]");
 }
 
+TEST_F(SceneLoader, ARotationAxisOfAnyFiniteLengthIsItsDirection) {
+  // 1e200 squared overflows and 1e-200 squared underflows: a naive norm made the first the
+  // identity rotation and the second a "zero" axis.
+  for (const char* axis : {"[0, 0, 1e200]", "[0, 0, 1e-200]"}) {
+    const Scene scene = load(std::string(R"({"instrument": {"mesh": "tool.obj", "path": [
+                {"t": 0, "position": [0, 0, 1], "rotation": {"axis": )")
+                             + axis + R"(, "degrees": 90}}]}})");
+    EXPECT_TRUE((scene.instrument->path[0].orientation * Eigen::Vector3d::UnitX())
+                    .isApprox(Eigen::Vector3d::UnitY(), 1e-15))
+        << axis;
+  }
+}
+
 TEST_F(SceneLoader, RejectsAnInstrumentReleasedBeforeItStarts) {
   EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "start": 2, "release": 1,
                 "path": [{"t": 0, "position": [0, 0, 1]}]}})"),
