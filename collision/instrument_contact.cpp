@@ -48,8 +48,31 @@ Eigen::Vector3d direction(const Eigen::Vector3d& from,
 // Points on the instrument's surface no farther apart than `spacing`: its vertices plus, on each
 // triangle longer than that, a barycentric grid. A coarse instrument (a cube of 12 triangles)
 // presses the tissue with its faces, not only its corners.
+/// The most points surface_samples() makes: 48 MB, and a query each per contact pass. A tool
+/// that needs more is far larger than the tissue's edges (a mesh in millimetres beside tissue
+/// in metres samples a million times more points): refused before anything is allocated.
+constexpr double kMaxSamples = 2'000'000;
+
 Eigen::Matrix3Xd surface_samples(const TriMesh& mesh, double spacing) {
+  // Counted first, in doubles (a huge tool overflows an int), then allocated.
+  double count = static_cast<double>(mesh.vertices.cols());
+  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
+    const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
+    const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t));
+    const double n = std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / spacing);
+    count += 0.5 * (n + 1.0) * (n + 2.0);
+  }
+  if (!(count <= kMaxSamples)) {
+    throw InputError("InstrumentContact: the instrument mesh would take "
+                     + std::to_string(static_cast<long long>(std::min(count, 1e18)))
+                     + " contact points at the tissue's edge spacing (" + std::to_string(spacing)
+                     + " m), more than the limit of "
+                     + std::to_string(static_cast<long long>(kMaxSamples))
+                     + ": is it in other units than the tissue (millimetres beside metres)?");
+  }
   std::vector<Eigen::Vector3d> samples;
+  samples.reserve(static_cast<std::size_t>(count));
   for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v) {
     samples.emplace_back(mesh.vertices.col(v));
   }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run/loading.h"
 
+#include "geometry/input_error.h"
+
 #include "geometry/mesh_topology.h"
 #include "scenes/instrument_path.h"
 #include "scenes/scene_regions.h"
@@ -31,8 +33,12 @@ Loading::Loading(const scenes::Scene& scene, const SceneMesh& scene_mesh) : scen
   if (scene.instrument) {
     collision::InstrumentContactOptions options;
     options.margin = scene.instrument->contact_margin;
-    contact_ = std::make_unique<collision::InstrumentContact>(
-        mesh.rest_positions(), boundary_triangles(mesh.tets()), *scene_mesh.instrument, options);
+    try {
+      contact_ = std::make_unique<collision::InstrumentContact>(
+          mesh.rest_positions(), boundary_triangles(mesh.tets()), *scene_mesh.instrument, options);
+    } catch (const InputError& error) {
+      throw InputError(scene.instrument->mesh.string() + ": " + error.what());
+    }
   }
   const auto vertices = static_cast<std::size_t>(mesh.num_vertices());
   in_contact_.assign(vertices, false);

@@ -13,6 +13,24 @@ namespace {
 using test::icosphere;
 using ::testing::HasSubstr;
 
+// A tool in millimetres beside tissue in metres is a thousand times larger than meant: sampled at
+// the tissue's edge spacing it would take a million times the points. Refused with the limit,
+// before any allocation, not run out of memory.
+TEST(InstrumentContact, RefusesAToolThatWouldTakeMoreThanTheSampleLimit) {
+  const TriMesh tissue = icosphere(2, 0.01);  // 1 cm, edges about 3 mm
+  const TriMesh probe = icosphere(1, 0.002);
+  EXPECT_NO_THROW(InstrumentContact(tissue.vertices, tissue.triangles, probe));
+  TriMesh millimetres = probe;
+  millimetres.vertices *= 1000.0;
+  try {
+    InstrumentContact contact(tissue.vertices, tissue.triangles, millimetres);
+    FAIL() << "a tool needing billions of contact points was accepted";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("more than the limit of 2000000"));
+    EXPECT_THAT(error.what(), HasSubstr("other units"));
+  }
+}
+
 // The inside/outside signs need closed, consistently oriented surfaces: anything else is refused
 // with the offending mesh named, not simulated with meaningless signs.
 TEST(InstrumentContact, RefusesOpenOrMisorientedSurfaces) {
