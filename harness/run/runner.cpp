@@ -4,6 +4,8 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
+#include "geometry/mesh_validation.h"
+#include "geometry/shape_meshes.h"
 #include "harness/run/loaded_travel.h"
 #include "harness/run/plausibility.h"
 #include "harness/run/run_monitor.h"
@@ -216,15 +218,24 @@ std::vector<ModelRun> run_scene(const scenes::Scene& scene,
   for (const std::string& name : names) {
     builtin_models().at(name);  // an unknown name fails before any model runs
   }
+  // Every block of the scene is read before any model runs, also those of models not run now:
+  // a wrong key is found at once, not after the other models' runs (or never). Reading one
+  // means building its model, on one cube of six tets: the same parameter check, at no cost.
+  static const TetMesh one_cube = make_tet_mesh(box_tets(1, 1, 1, 0.01, 0.01, 0.01));
   for (const auto& [name, block] : scene.model_parameters) {
     // A block for a model this build leaves out is not an error in the scene.
-    if (!builtin_models().contains(name) && !builtin_models().unavailable(name)) {
+    if (builtin_models().unavailable(name)) {
+      continue;
+    }
+    if (!builtin_models().contains(name)) {
       try {
         builtin_models().at(name);
       } catch (const InputError& error) {
         throw InputError(scene.source.string() + ": /models/" + name + ": " + error.what());
       }
     }
+    builtin_models().at(name).create(one_cube, scene.material, block,
+                                     {scene.source.string(), "/models/" + name});
   }
   std::vector<ModelRun> runs;
   for (const std::string& name : names) {

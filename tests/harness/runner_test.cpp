@@ -13,6 +13,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace softbench::harness {
 namespace {
 
@@ -99,6 +101,22 @@ TEST_F(RunnerTest, RejectsAnUnknownModelAndABadParameterBlockNamingTheScene) {
   } catch (const InputError& error) {
     EXPECT_THAT(error.what(), HasSubstr("bar_sag.json: /models/mass_spring/stiffness"));
   }
+}
+
+// The block of a model that is not run is read too, before anything runs: a typo there is not
+// found only when that model's turn comes (or never).
+TEST_F(RunnerTest, RejectsABadBlockOfAModelNotRunBeforeAnyModelRuns) {
+  RunOptions options;
+  options.models = {"mass_spring"};
+  std::ostringstream progress;
+  options.progress = &progress;
+  try {
+    run_scene(scene(R"({"corotational_fem": {"cg_tolerence": 1e-3}})"), options);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), HasSubstr("bar_sag.json: /models/corotational_fem/cg_tolerence"));
+  }
+  EXPECT_EQ(progress.str(), "");  // mass_spring never ran
 }
 
 TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
