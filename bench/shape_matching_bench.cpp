@@ -15,6 +15,10 @@
 //   vertices) in the scene setting of step_bench (gravity, vertices in the lowest 10% of x
 //   pinned, dt 1/60) with the thesis's configuration (quadratic, 50 clusters of ~96 particles,
 //   alpha 0.72, beta 0.63) and variants.
+// - BM_ShapeMatchingHolds/<free|pinned|contact>: one step of that liver holding nothing, the
+//   pins (kinematic: they anchor their clusters), or the pins and a contact patch whose fully
+//   held vertices change every step (its clusters refitted every step): what held particles
+//   cost (holds_benchmark()).
 //
 // Single-core figures run with OMP threads set to 1 inside the benchmark. The machine is shared
 // and noisy: run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and
@@ -40,10 +44,14 @@
 //   linear_one_cluster 17.5 us. 2 threads: no gain on this loaded machine (72 us at best,
 //   0.2-5 ms when the other core was busy: a thread descheduled at a barrier); on a quiet
 //   machine an earlier build gave 83 -> 63 us.
+//   BM_ShapeMatchingHolds (thread CPU-time medians): free 65.7 us, pinned 72.0 us (1.10x),
+//   contact 90.7 us (1.38x; 12.7 contact holds and 5.6 clusters refitted a step).
 #include "bench/bench_liver.h"
+#include "bench/thread_cpu_clock.h"
 #include "geometry/mesh_data.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
+#include "geometry/mesh_topology.h"
 #include "geometry/mesh_validation.h"
 #include "models/shape_matching/cluster_matching.h"
 #include "models/shape_matching/clusters.h"
@@ -55,6 +63,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
 #include <chrono>
 #include <memory>
 #include <random>
@@ -256,6 +265,113 @@ void liver_benchmark(benchmark::State& state, const Params& params, int threads)
   state.counters["cluster_radius_mm"] = 1000.0 * model.clusters().radius;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Held particles
+
+/// What a step holds in BM_ShapeMatchingHolds.
+enum class Holds { kNone, kPinned, kContact };
+
+/// The liver as in BM_ShapeMatchingLiver (thesis configuration, gravity, one thread), holding:
+/// nothing (kNone: the free step); the lowest tenth in x pinned (kPinned: a fixed held set,
+/// refitted once); or those pins and a contact patch that moves (kContact): the surface
+/// vertices within 1.5 cm of a surface vertex that steps, one a step, through the upper
+/// surface within 3 cm of where liver_press's probe comes down, are held fully (kinematic, as
+/// the instrument holds the corners of the triangles it pushes), and those 1.5 to 2 cm from it
+/// slide along z (a frictionless contact), all where they are. The held set changes every
+/// step, so the clusters around it are refitted every step (more often than in liver_press
+/// and liver_pull, whose contact changes a few vertices a pass): `refits` is the mean number
+/// per step, `contact_holds` the mean number of contact constraints. Each step is timed on the
+/// thread's CPU clock (the reported time; building the step's constraints is left out), so a
+/// loaded machine inflates it less.
+void holds_benchmark(benchmark::State& state, Holds holds) {
+  omp_set_num_threads(1);
+  const TetMesh& mesh = bench::shipped_liver("liver.msh");
+  Params params;  // the thesis's
+  const std::unique_ptr<SoftBody> body = make_shape_matching(mesh, kLiverMaterial, params);
+  const auto& model = dynamic_cast<const shape_matching::ShapeMatchingModel&>(*body);
+  const std::vector<PositionConstraint> pins =
+      holds == Holds::kNone ? std::vector<PositionConstraint>{}
+                            : bench::pin_lowest_tenth_in_x(mesh);
+  std::vector<int> surface;
+  {
+    std::vector<bool> on_surface(static_cast<std::size_t>(mesh.num_vertices()), false);
+    const Eigen::Matrix3Xi triangles = boundary_triangles(mesh.tets());
+    for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+      for (int c = 0; c < 3; ++c) {
+        on_surface[static_cast<std::size_t>(triangles(c, t))] = true;
+      }
+    }
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (on_surface[static_cast<std::size_t>(v)]) {
+        surface.push_back(v);
+      }
+    }
+  }
+  // The path of the patch's centre: the upper surface vertices within 3 cm of where
+  // liver_press's probe comes down (x = 3.7 cm, y = 0.4 cm; those above the liver's mid
+  // height), in order of x, there and back, one a step.
+  const double middle = 0.5 * (mesh.rest_positions().row(2).minCoeff()
+                               + mesh.rest_positions().row(2).maxCoeff());
+  std::vector<int> path;
+  for (const int v : surface) {
+    const Eigen::Vector3d x = mesh.rest_positions().col(v);
+    if (std::hypot(x.x() - 0.037, x.y() - 0.004) < 0.03 && x.z() > middle) {
+      path.push_back(v);
+    }
+  }
+  std::sort(path.begin(), path.end(), [&](int a, int b) {
+    return mesh.rest_positions()(0, a) < mesh.rest_positions()(0, b);
+  });
+  for (std::size_t back = path.size(); back-- > 1;) {
+    path.push_back(path[back - 1]);
+  }
+  std::vector<PositionConstraint> constraints;
+  constraints.reserve(pins.size() + surface.size());
+  int step = 0;
+  const auto input_for = [&](int index) {
+    constraints.assign(pins.begin(), pins.end());
+    if (holds == Holds::kContact) {
+      const Eigen::Vector3d centre =
+          body->positions().col(path[static_cast<std::size_t>(index) % path.size()]);
+      for (const int v : surface) {
+        const Eigen::Vector3d x = body->positions().col(v);
+        const double distance = (x - centre).norm();
+        if (distance < 0.015) {
+          constraints.push_back({v, x, kExact});
+        } else if (distance < 0.02) {
+          constraints.push_back({v, x, kExact, PositionConstraint::along(Eigen::Vector3d::UnitZ())});
+        }
+      }
+    }
+    StepInput input;
+    input.constraints = constraints;
+    return input;
+  };
+  for (; step < kWarmUpSteps; ++step) {
+    body->step(kDt, input_for(step));
+  }
+  bench::StepTotals totals;
+  double refits = 0.0;
+  double held_clusters = 0.0;
+  double held_particles = 0.0;
+  for (auto _ : state) {
+    const StepInput input = input_for(step++);
+    const double start = bench::thread_cpu_us();
+    totals.add(body->step(kDt, input));
+    state.SetIterationTime(1e-6 * (bench::thread_cpu_us() - start));
+    refits += model.matcher().num_refits();
+    held_particles += static_cast<double>(input.constraints.size() - pins.size());
+    held_clusters += model.matcher().num_held_clusters();
+  }
+  if (!totals.report(state)) {
+    return;
+  }
+  const auto steps = static_cast<double>(state.iterations());
+  state.counters["refits"] = refits / steps;
+  state.counters["held_clusters"] = held_clusters / steps;
+  state.counters["contact_holds"] = held_particles / steps;
+}
+
 void register_benchmarks() {
   for (const auto& [label, type] : {std::pair{"linear", Params::Type::kLinear},
                                     std::pair{"quadratic", Params::Type::kQuadratic}}) {
@@ -275,6 +391,16 @@ void register_benchmarks() {
           ->Unit(benchmark::kMicrosecond)
           ->UseRealTime();
     }
+  }
+  for (const auto& [label, holds] : {std::pair{"free", Holds::kNone},
+                                     std::pair{"pinned", Holds::kPinned},
+                                     std::pair{"contact", Holds::kContact}}) {
+    benchmark::RegisterBenchmark(("BM_ShapeMatchingHolds/" + std::string(label)).c_str(),
+                                 [holds = holds](benchmark::State& state) {
+                                   holds_benchmark(state, holds);
+                                 })
+        ->Unit(benchmark::kMicrosecond)
+        ->UseManualTime();
   }
   benchmark::RegisterBenchmark("BM_HundredObjects", hundred_objects_benchmark)
       ->Unit(benchmark::kMillisecond)

@@ -2,7 +2,10 @@
 // The cost of one model step on the shipped livers, in a scene-like setting: the liver material
 // (E 3000 Pa, nu 0.3, 1060 kg/m^3), gravity, and the vertices in the lowest 10 % of the x extent
 // pinned. Every registered model runs with its defaults (BM_Step/<model>/<mesh>); the
-// mass-spring model also runs per integrator and solver (BM_Step/mass_spring:<variant>/<mesh>).
+// mass-spring model also runs with each spring set named whatever its defaults (young_modulus:
+// Van Gelder's springs from E, undamped; thesis_springs: k 180 N/m, c 5 N s/m), and per
+// integrator and solver (BM_Step/mass_spring:<variant>/<mesh>). bench/mass_spring_bench.cpp
+// times the mass-spring step's phases on one core against corotational_fem.
 // Time is wall-clock (the models may use OpenMP threads). On a machine with few cores, run with
 // OMP_WAIT_POLICY=passive: CHOLMOD's OpenMP threads otherwise spin-wait on the cores its
 // OpenBLAS threads need (liver.msh's factorisation: 30 ms instead of 16 ms on 2 cores).
@@ -47,6 +50,16 @@ std::vector<Variant> variants() {
   for (const std::string& name : builtin_models().default_names()) {
     result.push_back({name, name, nullptr, kSceneDt});
   }
+  // The mass-spring model's two spring sets, named whatever the defaults are: springs from
+  // Young's modulus (Van Gelder) without dashpots, and the thesis's k = 180 N/m, c = 5 N s/m.
+  result.push_back({"mass_spring:young_modulus",
+                    "mass_spring",
+                    {{"stiffness_from", "young_modulus"}, {"damping", 0.0}},
+                    kSceneDt});
+  result.push_back({"mass_spring:thesis_springs",
+                    "mass_spring",
+                    {{"stiffness_from", "given"}, {"stiffness", 180.0}, {"damping", 5.0}},
+                    kSceneDt});
   result.push_back({"mass_spring:implicit_euler+cg",
                     "mass_spring",
                     {{"integrator", "implicit_euler"}, {"solver", "cg"}},
@@ -57,7 +70,10 @@ std::vector<Variant> variants() {
                     kSceneDt});
   result.push_back({"mass_spring:symplectic_euler@dt=1e-7",
                     "mass_spring",
-                    {{"integrator", "symplectic_euler"}},
+                    {{"integrator", "symplectic_euler"},
+                     {"stiffness_from", "given"},
+                     {"stiffness", 180.0},
+                     {"damping", 5.0}},
                     kSymplecticDt});
   return result;
 }

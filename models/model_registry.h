@@ -41,6 +41,28 @@ struct StiffnessAxisSpec {
   std::string note = "the material's Young's modulus";  ///< one line for the report
 };
 
+/// A parameter `softbench calibrate` fits, searched over [lower, upper] (on a log scale when
+/// log_scale: a stiffness spans decades).
+struct FittedParameter {
+  std::string name;
+  double lower = 0.0;
+  double upper = 1.0;
+  bool log_scale = false;
+};
+
+/// How a model whose stiffness is not a material constant is fitted to a reference that
+/// follows the material (harness/calibrate/calibration.h). A model with nothing in `fitted`
+/// follows the material itself: its block is the tissue already.
+struct CalibrationSpec {
+  std::vector<FittedParameter> fitted;
+  /// Set on the block before fitting, over the scene's values (mass_spring: springs from E).
+  nlohmann::json fixed = nlohmann::json::object();
+  /// The block entries that give the model the reference's Rayleigh mass damping (alpha, 1/s)
+  /// at time step dt, so the fitted model is damped as the tissue is. Empty: the model has no
+  /// damping to match (shape matching's pull damps by itself).
+  std::function<nlohmann::json(double alpha, double dt)> matched_damping;
+};
+
 /// Everything the harness needs to know about a model: a new model declares it here, in its own
 /// folder, and touches nothing in harness/ or scenes/.
 struct ModelInfo {
@@ -56,6 +78,14 @@ struct ModelInfo {
   /// where the scene's block sets none (or zero): the equilibrium does not depend on them, and
   /// the run gets there sooner. Empty: the model has no damping to add.
   nlohmann::json settling_damping = nlohmann::json::object();
+  /// The parameter holding the model's Rayleigh mass damping (1/s; "" if it has none): what a
+  /// model fitted to this one as a reference takes over (CalibrationSpec::matched_damping).
+  std::string mass_damping;
+  CalibrationSpec calibration;
+  /// Settings that trade accuracy for speed (each merged over the scene's block), cheapest
+  /// last: what compare's equal-accuracy chart tries besides the defaults, at the scene's dt and
+  /// twice it.
+  std::vector<nlohmann::json> speed_settings;
 };
 
 /// The models a build knows, by name. Explicit registration (builtin_models.cpp), not static

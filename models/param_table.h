@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "models/calibration_record.h"
 #include "models/json_reader.h"
 
 #include <nlohmann/json.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -89,6 +91,20 @@ class ParamTable {
           }
           return nlohmann::json(nullptr);
         });
+    return *this;
+  }
+
+  /// The record of a fit (`softbench calibrate`): null, or what the block was fitted to. Only a
+  /// model whose stiffness is not a material constant has one.
+  ParamTable& record(std::string name,
+                     std::optional<CalibrationRecord> Params::*field,
+                     std::string doc) {
+    add(
+        std::move(name), std::move(doc),
+        [field](const JsonReader& in, const std::string& key, Params& params) {
+          params.*field = read_calibration_record(in, key);
+        },
+        [field](const Params& params) { return softbench::to_json(params.*field); });
     return *this;
   }
 

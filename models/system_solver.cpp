@@ -148,11 +148,8 @@ class ChunkedVectors {
 /// tolerance). The reported residual is the recursively updated one, relative to |b|.
 class PcgIterations {
  public:
-  /// Iterations the error estimate sums over: its delay. The sum of alpha_j r_j.z_j over
-  /// iterations k..k+d-1 is a lower bound of |x - x_k|^2_A that tightens as d grows; with CG's
-  /// usual convergence, 4 already gives the right magnitude. The stop comes d iterations after
-  /// the iterate it judges (a conservative stop: the error only falls).
-  static constexpr int kErrorDelay = 4;
+  /// Iterations the error estimate sums over: its delay (EnergyErrorEstimate).
+  static constexpr int kErrorDelay = EnergyErrorEstimate::kDelay;
 
   explicit PcgIterations(const BlockPattern& pattern)
       : vectors_(pattern),
@@ -198,9 +195,7 @@ class PcgIterations {
       a.multiply(direction_, product_);
       reference_energy = std::max(0.0, direction_.dot(product_));
     }
-    double change_energy = 0.0;                // |x_k - x0|^2_A, summed as CG goes
-    std::array<double, kErrorDelay> window{};  // the last alpha_j r_j.z_j
-    double window_sum = 0.0;
+    EnergyErrorEstimate estimate(reference_energy);
 
     a.multiply(x, product_);
     double residual_norm =
@@ -231,11 +226,7 @@ class PcgIterations {
           break;  // not positive definite, or NaN: stop with what we have
         }
         const double alpha = rz / curvature;
-        const double term = alpha * rz;
-        change_energy += term;
-        const auto slot = static_cast<std::size_t>(report.iterations % kErrorDelay);
-        window_sum += term - window[slot];
-        window[slot] = term;
+        report.error = estimate.add(report.iterations, alpha * rz);
         residual_norm = std::sqrt(
             vectors_.for_each_chunk([alpha, xs, r, p, q](Eigen::Index begin, Eigen::Index end) {
               double sum = 0.0;
@@ -246,13 +237,10 @@ class PcgIterations {
               }
               return sum;
             }));
-        const double scale = std::max(reference_energy, change_energy);
-        report.error = scale > 0.0 ? std::sqrt(std::max(0.0, window_sum) / scale) : 0.0;
         // Converged, or at round-off: a residual this small leaves nothing to gain (an exact
         // preconditioner gets there in one iteration, before the estimate has its window).
         constexpr double kRoundoff = 1e-14;
-        if (residual_norm <= kRoundoff * rhs_norm
-            || (report.iterations >= kErrorDelay && report.error <= tolerance)) {
+        if (residual_norm <= kRoundoff * rhs_norm || estimate.met(report.iterations, tolerance)) {
           report.converged = true;
           break;
         }

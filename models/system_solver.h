@@ -5,6 +5,9 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <memory>
 
@@ -40,6 +43,45 @@ struct LinearSolverOptions {
   int max_iterations = 200;
   /// kCholeskyPcg: refactorise before the next solve when this one needed more iterations.
   int refresh_iterations = 8;
+};
+
+/// The iterative solvers' stopping rule (LinearSolverOptions::tolerance), stated once for every
+/// conjugate-gradient loop (PcgIterations here, the mass-spring model's own): the estimated
+/// energy norm of the error relative to the energy norm of what the solve is for. Each iteration
+/// adds its alpha_j r_j.z_j; their sum over iterations k..k+d-1 is a lower bound of
+/// |x - x_k|^2_A that tightens as the delay d grows (Hestenes and Stiefel's estimate; Strakos and
+/// Tichy 2002); with CG's usual convergence, 4 already gives the right magnitude. The stop comes
+/// d iterations after the iterate it judges (a conservative stop: the error only falls). The
+/// scale is the larger of the caller's reference energy (|offset + x0|^2_A) and the solve's own
+/// change so far, |x_k - x0|^2_A (the sum of every term).
+class EnergyErrorEstimate {
+ public:
+  static constexpr int kDelay = 4;
+
+  explicit EnergyErrorEstimate(double reference_energy) : reference_energy_(reference_energy) {}
+
+  /// Adds iteration `iteration`'s (1, 2, ...) term alpha r.z; returns the estimated relative
+  /// error.
+  double add(int iteration, double term) {
+    change_energy_ += term;
+    const auto slot = static_cast<std::size_t>(iteration % kDelay);
+    window_sum_ += term - window_[slot];
+    window_[slot] = term;
+    const double scale = std::max(reference_energy_, change_energy_);
+    error_ = scale > 0.0 ? std::sqrt(std::max(0.0, window_sum_) / scale) : 0.0;
+    return error_;
+  }
+  /// Whether iteration `iteration` may stop: its window is full and the error within tolerance.
+  bool met(int iteration, double tolerance) const {
+    return iteration >= kDelay && error_ <= tolerance;
+  }
+
+ private:
+  double reference_energy_;
+  double change_energy_ = 0.0;           ///< |x_k - x0|^2_A, summed as CG goes
+  std::array<double, kDelay> window_{};  ///< the last alpha_j r_j.z_j
+  double window_sum_ = 0.0;
+  double error_ = 0.0;
 };
 
 /// What one solve of the implicit system cost and how well it did.

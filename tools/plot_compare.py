@@ -9,6 +9,8 @@ Writes into DIR (default: the folder of compare.json), each atomically (temporar
                                   collision, log scale, the thesis's FPS marked
   force_displacement_<scene>.png  instrument (or grasp) force against its displacement, per model
   recovery_<scene>.png            recovery residual over time after the release, per model, log y
+  equal_accuracy.png              real-time factor against error per model and setting, the
+                                  error budgets marked (when compare.json has the trade)
 A scene with no tool load has no force plot, one with no release no recovery plot. Prints the
 path of every file written, one per line (softbench reads them).
 """
@@ -145,12 +147,54 @@ def plot_recovery(scene, out):
     save(figure, os.path.join(out, "recovery_" + safe_name(scene["name"]) + ".png"))
 
 
+def plot_equal_accuracy(trade, out):
+    """Each setting a point (error, simulated s per wall s), each model's front joined."""
+    if not trade or not trade.get("settings"):
+        return
+    figure, axes = plt.subplots(figsize=(8.5, 5.5))
+    models = []
+    for setting in trade["settings"]:
+        if setting["model"] not in models:
+            models.append(setting["model"])
+    for model in models:
+        points = sorted((100.0 * s["error"], s["realtime_factor"]) for s in trade["settings"]
+                        if s["model"] == model and s["stable"] and s["error"] is not None
+                        and s["realtime_factor"] > 0)
+        if not points:
+            continue
+        # The front: the fastest point at or below each error.
+        front, fastest = [], 0.0
+        for error, speed in points:
+            if speed > fastest:
+                front.append((error, speed))
+                fastest = speed
+        line = axes.plot([p[0] for p in front], [p[1] for p in front], "-", linewidth=1.2)[0]
+        axes.scatter([p[0] for p in points], [p[1] for p in points], color=line.get_color(),
+                     label=model, s=30, zorder=4)
+    for budget in trade["budgets"]:
+        axes.axvline(100.0 * budget, color="grey", linestyle=":", linewidth=1)
+        axes.text(100.0 * budget, 1.0, " %g%%" % (100.0 * budget), color="grey", fontsize=8,
+                  transform=axes.get_xaxis_transform(), va="top")
+    axes.axhline(1.0, color="black", linestyle="--", linewidth=0.8)
+    axes.set_xscale("log")
+    axes.set_yscale("log")
+    axes.set_xlabel("RMS position error against the reference (% of its displacement)")
+    axes.set_ylabel("real-time factor (simulated s per wall s)")
+    axes.set_title("Speed at equal accuracy: " + trade["scene"] + " (every model matched to the tissue)",
+                   fontsize=10)
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=8)
+    figure.tight_layout()
+    save(figure, os.path.join(out, "equal_accuracy.png"))
+
+
 def main():
     data, out = read_input(__doc__.splitlines()[0], "compare_json")
     plot_steps_per_second(data, out)
     for scene in data["scenes"]:
         plot_force_displacement(scene, out)
         plot_recovery(scene, out)
+    plot_equal_accuracy(data.get("equal_accuracy"), out)
     return 0
 
 

@@ -1,39 +1,241 @@
 // SPDX-License-Identifier: MIT
 #include "harness/calibrate/calibration.h"
 
+#include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
-#include "geometry/mesh_io.h"
-#include "geometry/mesh_measures.h"
-#include "geometry/mesh_validation.h"
-#include "harness/run/run_monitor.h"
-#include "harness/run/scene_mesh.h"
+#include "harness/provenance.h"
+#include "models/json_file.h"
 #include "models/model_registry.h"
-#include "scenes/scene_regions.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iomanip>
-#include <iostream>
-#include <memory>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <utility>
-#include <vector>
 
 namespace softbench::harness {
 namespace {
 
-constexpr const char* kModel = kCalibratedModel;
+/// Bumped when what a calibration computes changes, so old caches are not read as new.
+constexpr int kCalibrationVersion = 1;
 
-// The model's settling damping (ModelInfo::settling_damping) where the block sets none or zero.
-nlohmann::json with_settling_damping(const std::string& model, nlohmann::json params) {
-  if (params.is_null()) {
-    params = nlohmann::json::object();
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// What of the scene the tissue's response depends on: not its name, script, duration or other
+/// models' blocks, so every scene of the same tissue, mesh and tool shares one calibration.
+nlohmann::json tissue_key(const scenes::Scene& scene,
+                          const SceneMesh& mesh,
+                          const CalibrationOptions& options) {
+  const nlohmann::json full = scenes::to_json(scene);
+  std::ostringstream tool;
+  tool << std::setprecision(17);
+  if (mesh.instrument != nullptr) {
+    tool << mesh.instrument->vertices.transpose() << mesh.instrument->triangles.transpose();
   }
-  for (const auto& [key, value] : builtin_models().at(model).settling_damping.items()) {
-    if (!params.contains(key) || params[key] == 0.0) {
-      params[key] = value;
+  nlohmann::json key = {{"version", kCalibrationVersion},
+                        {"material", full["material"]},
+                        {"gravity", full["gravity"]["acceleration"]},
+                        {"dt", scene.dt},
+                        {"fixed", full["fixed"]},
+                        {"supports", full.value("supports", nlohmann::json::array())},
+                        {"limits", full.value("limits", nlohmann::json::object())},
+                        {"mesh_hash", mesh.content_hash},
+                        {"instrument_hash", stable_hash(tool.str())},
+                        {"against", options.against},
+                        {"reference_block", scene.parameters_for(options.against)},
+                        {"press",
+                         {{"depths", options.press.depths},
+                          {"approach", options.press.approach},
+                          {"speed", options.press.speed},
+                          {"overshoot", options.press.overshoot},
+                          {"rest_speed", options.press.settling.rest_speed},
+                          {"settle_time", options.press.settling.max_time}}},
+                        {"build", build_fingerprint()}};
+  if (scene.instrument) {
+    key["contact_margin"] = scene.instrument->contact_margin;
+  }
+  return key;
+}
+
+std::filesystem::path cache_file(const CalibrationOptions& options,
+                                 const std::string& prefix,
+                                 const nlohmann::json& key) {
+  return options.cache_dir / (prefix + "-" + stable_hash(key.dump()) + ".json");
+}
+
+void write_cache(const std::filesystem::path& path, const nlohmann::json& json) {
+  std::filesystem::create_directories(path.parent_path());
+  const std::string text = json.dump(1) + "\n";
+  write_file_atomically(path, [&](std::ostream& out) { out << text; });
+}
+
+/// The fit's cost: the mean squared log ratio of the sag and, together with it, of the press
+/// forces (sag and press weigh half each). Log ratios treat too stiff and too soft alike; a
+/// target the model missed entirely (no sag, no force) counts as a thousandfold miss, one it
+/// never reached (it blew up) as infinite.
+double cost(const TissueResponse& model, const TissueResponse& reference) {
+  if (!model.sag.stable || !model.press_stable) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const auto miss = [](double value, double target) {
+    if (!std::isfinite(value)) {
+      return std::numeric_limits<double>::infinity();
+    }
+    const double ratio = std::max(value / target, 1e-3);
+    return std::log(ratio) * std::log(ratio);
+  };
+  double press = 0.0;
+  for (std::size_t i = 0; i < reference.forces.size(); ++i) {
+    press += miss(model.forces[i], reference.forces[i]);
+  }
+  const double sag = miss(model.sag.sag, reference.sag.sag);
+  return reference.forces.empty() ? sag : 0.5 * sag + 0.5 * press / reference.forces.size();
+}
+
+std::vector<double> relative_errors(const TissueResponse& model, const TissueResponse& reference) {
+  std::vector<double> errors{model.sag.sag / reference.sag.sag - 1.0};
+  for (std::size_t i = 0; i < reference.forces.size(); ++i) {
+    errors.push_back(model.forces[i] / reference.forces[i] - 1.0);
+  }
+  return errors;
+}
+
+double value_at(const FittedParameter& parameter, double u) {
+  return parameter.log_scale
+             ? parameter.lower * std::pow(parameter.upper / parameter.lower, u)
+             : parameter.lower + u * (parameter.upper - parameter.lower);
+}
+
+/// Minimises `evaluate` over the unit cube (one coordinate per fitted parameter): the best point
+/// of a coarse grid (7 points for one parameter, 4 x 4 for two), then a golden-section search
+/// along each coordinate in turn within the grid cells around the best point so far.
+/// Deterministic: the same points in the same order every time.
+class Search {
+ public:
+  Search(int dimensions, std::function<double(const std::vector<double>&)> evaluate)
+      : dimensions_(dimensions), evaluate_(std::move(evaluate)) {}
+
+  std::vector<double> run() {
+    const int per_axis = dimensions_ == 1 ? 7 : 4;
+    const double cell = 1.0 / (per_axis - 1);
+    std::vector<int> index(static_cast<std::size_t>(dimensions_), 0);
+    while (true) {
+      std::vector<double> u;
+      for (int i : index) {
+        u.push_back(i * cell);
+      }
+      consider(u);
+      std::size_t axis = 0;
+      while (axis < index.size() && ++index[axis] == per_axis) {
+        index[axis++] = 0;
+      }
+      if (axis == index.size()) {
+        break;
+      }
+    }
+    const int iterations = dimensions_ == 1 ? 12 : 7;
+    for (int axis = 0; axis < dimensions_; ++axis) {
+      golden(axis, std::max(0.0, best_[axis] - cell), std::min(1.0, best_[axis] + cell),
+             iterations);
+    }
+    return best_;
+  }
+
+  double best_cost() const { return best_cost_; }
+
+ private:
+  double consider(const std::vector<double>& u) {
+    const auto known = seen_.find(u);
+    if (known != seen_.end()) {
+      return known->second;
+    }
+    const double value = evaluate_(u);
+    seen_.emplace(u, value);
+    if (value < best_cost_ || best_.empty()) {
+      best_cost_ = value;
+      best_ = u;
+    }
+    return value;
+  }
+
+  void golden(int axis, double lo, double hi, int iterations) {
+    const std::vector<double> origin = best_;
+    const auto at = [&](double t) {
+      std::vector<double> u = origin;
+      u[static_cast<std::size_t>(axis)] = t;
+      return consider(u);
+    };
+    const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+    double a = hi - ratio * (hi - lo);
+    double b = lo + ratio * (hi - lo);
+    double fa = at(a);
+    double fb = at(b);
+    for (int k = 0; k < iterations; ++k) {
+      if (fa <= fb) {
+        hi = b;
+        b = a;
+        fb = fa;
+        a = hi - ratio * (hi - lo);
+        fa = at(a);
+      } else {
+        lo = a;
+        a = b;
+        fa = fb;
+        b = lo + ratio * (hi - lo);
+        fb = at(b);
+      }
     }
   }
-  return params;
+
+  int dimensions_;
+  std::function<double(const std::vector<double>&)> evaluate_;
+  std::map<std::vector<double>, double> seen_;
+  std::vector<double> best_;
+  double best_cost_ = std::numeric_limits<double>::infinity();
+};
+
+std::string target_name(double depth) {
+  std::ostringstream out;
+  out << "force at " << 100.0 * depth << " cm";
+  return out.str();
+}
+
+nlohmann::json to_json(const Calibration& calibration) {
+  return {{"model", calibration.model},
+          {"against", calibration.against},
+          {"reference", to_json(calibration.reference)},
+          {"fitted", to_json(calibration.fitted)},
+          {"params", calibration.params},
+          {"values", calibration.values},
+          {"targets", calibration.targets},
+          {"errors", calibration.errors},
+          {"objective", calibration.objective},
+          {"evaluations", calibration.evaluations},
+          {"seconds", calibration.seconds},
+          {"reference_seconds", calibration.reference_seconds}};
+}
+
+Calibration calibration_from_json(const nlohmann::json& json) {
+  Calibration calibration;
+  calibration.model = json.at("model").get<std::string>();
+  calibration.against = json.at("against").get<std::string>();
+  calibration.reference = tissue_response_from_json(json.at("reference"));
+  calibration.fitted = tissue_response_from_json(json.at("fitted"));
+  calibration.params = json.at("params");
+  calibration.values = json.at("values");
+  calibration.targets = json.at("targets").get<std::vector<std::string>>();
+  calibration.errors = json.at("errors").get<std::vector<double>>();
+  calibration.objective = json.at("objective").get<double>();
+  calibration.evaluations = json.at("evaluations").get<int>();
+  calibration.seconds = json.at("seconds").get<double>();
+  calibration.reference_seconds = json.at("reference_seconds").get<double>();
+  calibration.cached = true;
+  return calibration;
 }
 
 }  // namespace
@@ -44,160 +246,187 @@ std::string format_cm(double metres) {
   return out.str();
 }
 
-StaticSag static_sag(const scenes::Scene& scene,
-                     const TetMesh& mesh,
-                     const std::string& model,
-                     const nlohmann::json& params,
-                     const StaticSagOptions& options) {
-  const std::unique_ptr<SoftBody> body = builtin_models().at(model).create(
-      mesh, scene.material, params, {scene.source.string(), "/models/" + model});
-  std::vector<PositionConstraint> pins;
-  std::vector<char> fixed(static_cast<std::size_t>(mesh.num_vertices()), 0);
-  RunMonitor monitor(mesh, scene.limits, bounding_box_diagonal(mesh.rest_positions()));
-  for (int vertex : scenes::required_fixed_vertices(
-           scene, mesh, "calibrate", "the static sag it fits is the body's, hanging from it")) {
-    pins.push_back({vertex, mesh.rest_positions().col(vertex)});
-    fixed[static_cast<std::size_t>(vertex)] = 1;
-  }
-  StepInput input;
-  input.gravity = scene.gravity.acceleration;
-  input.constraints = pins;
-  const Eigen::Vector3d down = input.gravity.normalized();
+bool calibratable(const std::string& model) {
+  return !builtin_models().at(model).calibration.fitted.empty();
+}
 
-  StaticSag result;
-  const int window = static_cast<int>(std::ceil(1.0 / scene.dt));
-  const int max_steps = static_cast<int>(std::ceil(options.max_time / scene.dt));
-  int slow_steps = 0;
-  for (int step = 0; step < max_steps && !result.settled; ++step) {
-    if (!monitor.after_step(step, body->step(scene.dt, input), *body, pins)) {
-      result.stable = false;
-      return result;
+TissueResponse reference_response(const scenes::Scene& scene,
+                                  const SceneMesh& mesh,
+                                  const CalibrationOptions& options,
+                                  double* seconds) {
+  const nlohmann::json key = tissue_key(scene, mesh, options);
+  const std::filesystem::path cache = cache_file(options, "reference", key);
+  if (!options.cache_dir.empty() && std::filesystem::exists(cache)) {
+    const nlohmann::json json = read_json_file(cache);
+    if (seconds != nullptr) {
+      *seconds = json.at("response").at("seconds").get<double>();
     }
-    slow_steps = monitor.free_speed() < options.rest_speed ? slow_steps + 1 : 0;
-    result.settled = slow_steps >= window;
-    result.time = (step + 1) * scene.dt;
+    return tissue_response_from_json(json.at("response"));
   }
-  double sum = 0.0;
-  int free_vertices = 0;
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    if (fixed[static_cast<std::size_t>(v)] == 0) {
-      sum += (body->positions().col(v) - mesh.rest_positions().col(v)).dot(down);
-      ++free_vertices;
+  const TissueResponse response = tissue_response(
+      scene, mesh, options.against, scene.parameters_for(options.against), options.press);
+  if (!response.sag.stable || !response.press_stable || !response.sag.settled) {
+    throw InputError(scene.source.string() + ": the reference " + options.against
+                     + " did not come to rest under gravity or blew up in the press; nothing "
+                       "to calibrate against");
+  }
+  for (double force : response.forces) {
+    if (!(force > 0.0)) {
+      throw InputError(scene.source.string() + ": the reference " + options.against
+                       + " felt no force in the press; nothing to calibrate against");
     }
   }
-  result.sag = free_vertices > 0 ? sum / free_vertices : 0.0;
+  if (options.progress != nullptr) {
+    *options.progress << options.against << ": sag " << format_cm(response.sag.sag)
+                      << ", press forces";
+    for (double force : response.forces) {
+      *options.progress << " " << force << " N";
+    }
+    *options.progress << " (" << response.seconds << " s)\n";
+  }
+  if (!options.cache_dir.empty()) {
+    write_cache(cache, {{"key", key}, {"response", to_json(response)}});
+  }
+  if (seconds != nullptr) {
+    *seconds = response.seconds;
+  }
+  return response;
+}
+
+Calibration calibrate(const scenes::Scene& scene,
+                      const SceneMesh& mesh,
+                      const std::string& model,
+                      const CalibrationOptions& options) {
+  const ModelInfo& info = builtin_models().at(model);
+  const ModelInfo& reference_info = builtin_models().at(options.against);
+  if (info.calibration.fitted.empty()) {
+    throw InputError("calibrate: --model " + model
+                     + ": its stiffness follows the material; nothing to fit");
+  }
+  // The block every candidate starts from: the scene's, the declared fixed values, and the
+  // reference's mass damping in the model's own terms.
+  nlohmann::json base = scene.parameters_for(model);
+  if (base.is_null()) {
+    base = nlohmann::json::object();
+  }
+  base.erase("calibrated");
+  base.update(info.calibration.fixed);
+  const ParamSource source{scene.source.string(), "/models/" + model};
+  if (info.calibration.matched_damping && !reference_info.mass_damping.empty()) {
+    const nlohmann::json reference_params =
+        reference_info.create(mesh.body, scene.material, scene.parameters_for(options.against),
+                              {scene.source.string(), "/models/" + options.against})
+            ->parameters();
+    base.update(info.calibration.matched_damping(
+        reference_params.at(reference_info.mass_damping).get<double>(), scene.dt));
+  }
+
+  nlohmann::json key = tissue_key(scene, mesh, options);
+  key["model"] = model;
+  key["base"] = base;
+  const std::filesystem::path cache = cache_file(options, model, key);
+  if (!options.cache_dir.empty() && std::filesystem::exists(cache)) {
+    return calibration_from_json(read_json_file(cache).at("calibration"));
+  }
+
+  Calibration result;
+  result.model = model;
+  result.against = options.against;
+  result.reference = reference_response(scene, mesh, options, &result.reference_seconds);
+  result.targets.push_back("sag");
+  for (double depth : options.press.depths) {
+    result.targets.push_back(target_name(depth));
+  }
+
+  const auto started = std::chrono::steady_clock::now();
+  const std::vector<FittedParameter>& fitted = info.calibration.fitted;
+  const auto block_at = [&](const std::vector<double>& u) {
+    nlohmann::json block = base;
+    for (std::size_t i = 0; i < fitted.size(); ++i) {
+      block[fitted[i].name] = value_at(fitted[i], u[i]);
+    }
+    return block;
+  };
+  std::map<std::vector<double>, TissueResponse> responses;
+  Search search(static_cast<int>(fitted.size()), [&](const std::vector<double>& u) {
+    const nlohmann::json block = block_at(u);
+    TissueResponse response = tissue_response(scene, mesh, model, block, options.press);
+    ++result.evaluations;
+    const double value = cost(response, result.reference);
+    if (options.progress != nullptr) {
+      *options.progress << model;
+      for (const FittedParameter& parameter : fitted) {
+        *options.progress << " " << parameter.name << " " << block[parameter.name].get<double>();
+      }
+      *options.progress << ": sag " << format_cm(response.sag.sag) << ", forces";
+      for (double force : response.forces) {
+        *options.progress << " " << force;
+      }
+      *options.progress << " N, cost " << value << " (at rest after " << response.sag.time
+                        << " s; " << response.seconds << " s)\n";
+    }
+    responses.emplace(u, std::move(response));
+    return value;
+  });
+  const std::vector<double> best = search.run();
+  result.seconds = seconds_since(started);
+  result.objective = search.best_cost();
+  result.fitted = responses.at(best);
+  result.errors = relative_errors(result.fitted, result.reference);
+  if (!std::isfinite(result.objective)) {
+    throw InputError(scene.source.string() + ": " + model
+                     + " blew up at every point of its calibration range");
+  }
+
+  nlohmann::json block = block_at(best);
+  result.values = nlohmann::json::object();
+  for (const FittedParameter& parameter : fitted) {
+    result.values[parameter.name] = block[parameter.name];
+  }
+  CalibrationRecord record;
+  record.against = options.against;
+  record.dt = scene.dt;
+  record.sag = result.reference.sag.sag;
+  record.depths = options.press.depths;
+  record.forces = result.reference.forces;
+  record.errors = result.errors;
+  block["calibrated"] = to_json(std::optional<CalibrationRecord>(record));
+  // The effective block (defaults filled in), as the model echoes it.
+  result.params = info.create(mesh.body, scene.material, block, source)->parameters();
+  if (!options.cache_dir.empty()) {
+    write_cache(cache, {{"key", key}, {"calibration", to_json(result)}});
+  }
   return result;
 }
 
-StiffnessCalibration calibrate_bullet_softbody(const scenes::Scene& scene,
-                                               double tolerance,
-                                               std::ostream* progress) {
-  builtin_models().at(kModel);  // an InputError naming the known models if Bullet is not built
-  const TetMesh mesh = read_scene_mesh(scene).body;  // checked against the scene's units
-  StiffnessCalibration result;
-
-  // The reference: the corotational FEM, or until it is registered, springs from E.
-  nlohmann::json reference_params;
-  if (builtin_models().contains("corotational_fem")) {
-    result.against = "corotational_fem";
-    reference_params = scene.parameters_for(result.against);
-  } else {
-    result.against = "mass_spring";
-    reference_params = scene.parameters_for(result.against);
-    reference_params["stiffness_from"] = "young_modulus";
-  }
-  const StaticSag reference = static_sag(scene, mesh, result.against,
-                                         with_settling_damping(result.against, reference_params));
-  if (!reference.stable || !reference.settled || reference.sag <= 0.0) {
-    throw InputError(scene.source.string() + ": the reference " + result.against
-                     + " did not come to rest under gravity (stable: "
-                     + (reference.stable ? "yes" : "no") + "); nothing to calibrate against");
-  }
-  result.reference_sag = reference.sag;
-  if (progress != nullptr) {
-    *progress << result.against << ": static sag " << format_cm(reference.sag) << " (at rest after "
-              << reference.time << " s)\n";
-  }
-
-  nlohmann::json block = scene.parameters_for(kModel);
-  block.erase("calibrated");
-  const nlohmann::json defaults =
-      builtin_models()
-          .at(kModel)
-          .create(mesh, scene.material, block,
-                  {scene.source.string(), "/models/" + std::string(kModel)})
-          ->parameters();
-  int iterations = defaults["position_iterations"];
-  const auto sag_at = [&](double stiffness) {
-    nlohmann::json params = block;
-    params["stiffness"] = stiffness;
-    params["position_iterations"] = iterations;
-    const StaticSag sag = static_sag(scene, mesh, kModel, with_settling_damping(kModel, params));
-    ++result.evaluations;
-    if (progress != nullptr) {
-      *progress << kModel << ": stiffness " << stiffness << ", position_iterations " << iterations
-                << ": sag " << (sag.stable ? format_cm(sag.sag) : "unstable")
-                << (sag.settled ? "" : " (not at rest)") << "\n";
+nlohmann::json scene_with_block(nlohmann::json scene_json,
+                                const std::filesystem::path& scene_file,
+                                const std::filesystem::path& folder,
+                                const std::string& model,
+                                const nlohmann::json& block) {
+  const std::filesystem::path from = scene_file.parent_path();
+  const auto rebase = [&](nlohmann::json& path) {
+    if (!path.is_string()) {
+      return;
     }
-    return sag.stable ? sag.sag : INFINITY;  // unstable counts as too soft
+    const std::filesystem::path written = path.get<std::string>();
+    if (written.is_absolute()) {
+      return;
+    }
+    const std::filesystem::path absolute = std::filesystem::weakly_canonical(from / written);
+    const std::filesystem::path relative =
+        absolute.lexically_relative(std::filesystem::weakly_canonical(folder));
+    path = (relative.empty() ? absolute : relative).generic_string();
   };
-  const auto close_enough = [&](double sag) {
-    return std::abs(sag / result.reference_sag - 1.0) <= tolerance;
-  };
-
-  // kLST = 1 is the stiffest a link gets; if that is still too soft, more iterations.
-  constexpr int kMaxIterations = 1024;
-  double stiff = 1.0;
-  double stiff_sag = sag_at(stiff);
-  while (stiff_sag > result.reference_sag && !close_enough(stiff_sag)) {
-    if (2 * iterations > kMaxIterations) {
-      throw InputError(scene.source.string() + ": " + kModel + " sags " + format_cm(stiff_sag)
-                       + " even at stiffness 1 and " + std::to_string(iterations)
-                       + " position iterations, more than " + result.against + "'s "
-                       + format_cm(result.reference_sag));
-    }
-    iterations *= 2;
-    stiff_sag = sag_at(stiff);
+  if (scene_json.contains("mesh")) {
+    rebase(scene_json["mesh"]);
   }
-  double stiffness = stiff;
-  double sag = stiff_sag;
-  if (!close_enough(sag)) {
-    // Bracket: soft (sag above the reference) .. stiff (below), in log kLST.
-    constexpr double kMinStiffness = 1e-6;
-    double soft = 0.1;
-    double soft_sag = sag_at(soft);
-    while (soft_sag < result.reference_sag && !close_enough(soft_sag)) {
-      if (soft * 0.1 < kMinStiffness) {
-        throw InputError(scene.source.string() + ": " + kModel + " sags only " + format_cm(soft_sag)
-                         + " at stiffness " + std::to_string(soft) + ", less than " + result.against
-                         + "'s " + format_cm(result.reference_sag));
-      }
-      stiff = soft;
-      soft *= 0.1;
-      soft_sag = sag_at(soft);
-    }
-    stiffness = soft;
-    sag = soft_sag;
-    constexpr int kMaxBisections = 30;
-    for (int k = 0; k < kMaxBisections && !close_enough(sag); ++k) {
-      stiffness = std::sqrt(soft * stiff);
-      sag = sag_at(stiffness);
-      (sag > result.reference_sag ? soft : stiff) = stiffness;
-    }
+  if (scene_json.contains("instrument") && scene_json["instrument"].is_object()
+      && scene_json["instrument"].contains("mesh")) {
+    rebase(scene_json["instrument"]["mesh"]);
   }
-  result.sag = sag;
-
-  nlohmann::json fitted = block;
-  fitted["stiffness"] = stiffness;
-  fitted["position_iterations"] = iterations;
-  fitted["calibrated"] = {
-      {"against", result.against}, {"dt", scene.dt}, {"sag", result.reference_sag}};
-  // The effective block (defaults filled in), as the model echoes it.
-  result.params = builtin_models()
-                      .at(kModel)
-                      .create(mesh, scene.material, fitted, {scene.source.string(), "/models/"})
-                      ->parameters();
-  return result;
+  scene_json["models"][model] = block;
+  return scene_json;
 }
 
 }  // namespace softbench::harness

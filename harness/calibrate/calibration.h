@@ -1,65 +1,82 @@
 // SPDX-License-Identifier: MIT
+// Calibration of a model whose stiffness is not a material constant (mass_spring's springs,
+// shape matching's alpha and beta, Bullet's kLST) to the scene's tissue: its parameters are
+// fitted so that it sags and presses as the reference model (which follows the material) does
+// on the scene's mesh, material and time step. What is fitted, and how the model takes the
+// reference's damping, the model declares itself (ModelInfo::calibration).
 #pragma once
 
-#include "geometry/tet_mesh.h"
+#include "harness/calibrate/tissue_response.h"
+#include "harness/run/scene_mesh.h"
 #include "scenes/scene.h"
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace softbench::harness {
 
-// Calibration of a stiffness that has no physical unit (bullet_softbody's kLST: its effect
-// depends on dt, iterations and mesh) against a physical reference: the static sag of the scene's
-// body under the scene's gravity with its fixed region held (grasp, instrument, gravity's off
-// time and the initial velocity ignored), at the scene's dt. A free body (no fixed region) has
-// no static sag: it is refused with an InputError naming /fixed.
-
-struct StaticSagOptions {
-  /// m/s: at rest once every free vertex stayed slower than this for 1 s of simulated time.
-  double rest_speed = 2e-4;
-  double max_time = 60.0;  ///< s of simulated time before giving up
+struct CalibrationOptions {
+  /// The reference whose response is matched: its block from the scene, as run. Any
+  /// registered model (the tests fit a model to itself).
+  std::string against = "neo_hookean";
+  PressSettings press;
+  /// Where the reference's response and each calibration are cached (keyed by the scene's
+  /// tissue, mesh and tool content, the blocks, the press and the build); empty: no cache.
+  std::filesystem::path cache_dir = std::filesystem::path("out") / "calibration";
+  std::ostream* progress = nullptr;  ///< a line per run
 };
 
-struct StaticSag {
-  double sag = 0.0;      ///< m: mean displacement of the free vertices along gravity
-  double time = 0.0;     ///< s of simulated time it took to come to rest
-  bool settled = false;  ///< came to rest within max_time
-  bool stable = true;    ///< RunMonitor's rule held at every step
+struct Calibration {
+  std::string model;
+  std::string against;
+  TissueResponse reference;  ///< the targets
+  TissueResponse fitted;     ///< the model's response with `params`
+  /// The effective block (defaults filled in) with the fitted values and the "calibrated"
+  /// record: what to paste into the scene's "models".
+  nlohmann::json params;
+  nlohmann::json values;  ///< the fitted parameters alone, e.g. {"alpha": 0.31, "beta": 0.2}
+  std::vector<std::string> targets;  ///< "sag", "force at 0.5 cm", ...
+  std::vector<double> errors;        ///< relative error left on each target
+  double objective = 0.0;            ///< the fit's cost (see calibration.cpp)
+  int evaluations = 0;               ///< model runs the fit took
+  double seconds = 0.0;              ///< wall-clock time of the fit (the reference's excluded)
+  double reference_seconds = 0.0;    ///< wall-clock time of the reference's runs
+  bool cached = false;               ///< read from the cache, nothing run
 };
 
-/// Runs `model` with the parameter block `params` on the scene from rest until it is at rest,
-/// judged by RunMonitor like every run. Damping only shortens this: a static equilibrium does
-/// not depend on it. Throws InputError when the scene's fixed region selects no vertex.
-StaticSag static_sag(const scenes::Scene& scene,
-                     const TetMesh& mesh,
-                     const std::string& model,
-                     const nlohmann::json& params,
-                     const StaticSagOptions& options = {});
+/// Whether `model` has parameters to fit (ModelInfo::calibration); one that follows the
+/// material has none.
+bool calibratable(const std::string& model);
 
-struct StiffnessCalibration {
-  std::string against;         ///< reference model
-  double reference_sag = 0.0;  ///< m
-  double sag = 0.0;            ///< m, bullet_softbody's with the fitted parameters
-  nlohmann::json params;       ///< the block to paste into the scene, "calibrated" included
-  int evaluations = 0;         ///< bullet_softbody runs it took
-};
+/// Fits `model`'s declared parameters (a coarse grid over their ranges, then golden-section
+/// refinement per parameter) to the reference's static sag and press forces together, from
+/// the scene's block for `model` with the declared fixed values and the reference's damping.
+/// Deterministic; cached. Throws InputError for a model with nothing to fit, a scene without
+/// instrument or fixed region, or a reference that blows up.
+Calibration calibrate(const scenes::Scene& scene,
+                      const SceneMesh& mesh,
+                      const std::string& model,
+                      const CalibrationOptions& options = {});
 
-/// Fits bullet_softbody's stiffness (bisection on log kLST; position_iterations doubled first if
-/// even kLST = 1 is too soft) until its static sag is within `tolerance` (relative) of the
-/// reference's: corotational_fem when registered, else mass_spring with springs from Young's
-/// modulus as a stand-in. Starts from the scene's bullet_softbody block. Throws InputError when
-/// no stiffness in range matches.
-StiffnessCalibration calibrate_bullet_softbody(const scenes::Scene& scene,
-                                               double tolerance,
-                                               std::ostream* progress);
+/// The reference's response (cached), as calibrate() matches it.
+TissueResponse reference_response(const scenes::Scene& scene,
+                                  const SceneMesh& mesh,
+                                  const CalibrationOptions& options,
+                                  double* seconds = nullptr);
+
+/// `scene_json` (a scene file's JSON) with `model`'s block replaced by `block` and relative
+/// mesh paths rewritten for a file in `folder`: the scene `calibrate --write` saves.
+nlohmann::json scene_with_block(nlohmann::json scene_json,
+                                const std::filesystem::path& scene_file,
+                                const std::filesystem::path& folder,
+                                const std::string& model,
+                                const nlohmann::json& block);
 
 /// "1.234 cm": a length in centimetres with three decimals, for the calibration's messages.
 std::string format_cm(double metres);
-
-/// The model calibrate_bullet_softbody fits.
-inline constexpr const char* kCalibratedModel = "bullet_softbody";
 
 }  // namespace softbench::harness

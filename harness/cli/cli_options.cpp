@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "harness/cli/cli_options.h"
 
+#include "geometry/input_error.h"
 #include "harness/run/mesh_override.h"
 
 #include <unistd.h>
 
 #include <cctype>
+#include <fstream>
+#include <system_error>
 #include <cstddef>
 
 namespace softbench::harness {
@@ -61,6 +64,31 @@ std::string folder_name(const std::string& name) {
 
 std::filesystem::path out_dir_or(const std::string& given, const std::filesystem::path& fallback) {
   return given.empty() ? fallback : std::filesystem::path(given);
+}
+
+void check_writable_file(const std::filesystem::path& path, const std::string& option) {
+  const auto fail = [&](const std::string& why) {
+    throw InputError(option + " " + path.string() + ": cannot write (" + why + ")");
+  };
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) {
+    fail("it is a folder");
+  }
+  const std::filesystem::path folder = path.parent_path().empty() ? "." : path.parent_path();
+  std::filesystem::create_directories(folder, error);
+  if (!std::filesystem::is_directory(folder, error)) {
+    fail(folder.string() + " is not a folder");
+  }
+  // A probe file beside it, removed at once: permissions, a read-only file system.
+  const std::filesystem::path probe =
+      folder / (".softbench-probe-" + std::to_string(static_cast<long>(::getpid())));
+  {
+    std::ofstream out(probe);
+    if (!out) {
+      fail("no permission to create files in " + folder.string());
+    }
+  }
+  std::filesystem::remove(probe, error);
 }
 
 bool live_progress() {

@@ -33,6 +33,10 @@ scenes::Scene load_scene_with_mesh(const std::string& file, const std::string& m
 std::string folder_name(const std::string& name);
 /// `given`, else `fallback`.
 std::filesystem::path out_dir_or(const std::string& given, const std::filesystem::path& fallback);
+/// Throws InputError "OPTION PATH: cannot write (why)" unless a file can be written at `path`
+/// (its folder exists or can be made, the path is not a folder): checked before a command runs
+/// anything, so a bad output path does not cost the run.
+void check_writable_file(const std::filesystem::path& path, const std::string& option);
 /// Whether progress may rewrite its line (stderr is a terminal).
 bool live_progress();
 

@@ -27,6 +27,7 @@ struct CompareArguments {
   std::string out_dir;
   std::string mesh;
   bool no_plots = false;
+  bool thesis_only = false;
 };
 
 // A shipped scene: scenes/<name> from the working directory (the repository root, as the README
@@ -56,9 +57,11 @@ void compare(const CompareArguments& arguments) {
   options.models = arguments.models;
   options.progress = &std::cerr;
   options.live_progress = live_progress();
+  options.matched = !arguments.thesis_only;
+  const fs::path out_dir = out_dir_or(arguments.out_dir, "out/compare");
+  check_writable_file(out_dir / "compare.json", "--out");
   const Comparison comparison = run_comparison(scenes, options);
 
-  const fs::path out_dir = out_dir_or(arguments.out_dir, "out/compare");
   write_comparison(out_dir, comparison);
   std::cout << comparison_markdown(comparison) << "\nwrote " << (out_dir / "compare.md").string()
             << " and " << (out_dir / "compare.json").string() << "\n";
@@ -86,6 +89,9 @@ void add_compare_command(CLI::App& app) {
   add_out_option(*command, arguments->out_dir, "out/compare");
   add_mesh_option(*command, arguments->mesh);
   add_no_plots_flag(*command, arguments->no_plots, "compare.md and compare.json");
+  command->add_flag("--thesis-only", arguments->thesis_only,
+                    "table A only (the thesis's parameters): no reference, no calibration, no "
+                    "table B");
   command->callback([arguments] { compare(*arguments); });
 }
 

@@ -2,7 +2,9 @@
 #include "harness/compare/comparison.h"
 
 #include "geometry/input_error.h"
+#include "harness/calibrate/calibration.h"
 #include "harness/provenance.h"
+#include "harness/run/reference.h"
 #include "models/model_registry.h"
 
 #include <algorithm>
@@ -270,6 +272,91 @@ std::vector<Claim> check_claims(const std::vector<SceneComparison>& scenes,
           linear_fem_claim(scenes, criteria)};
 }
 
+std::vector<SpeedRatio> speed_ratios(const std::vector<ModelRun>& runs) {
+  const auto rate = [&](std::string_view label) -> std::optional<double> {
+    for (const ModelRun& run : runs) {
+      if (run.model == label && run.stability.stable
+          && run.timing.steps_per_second_with_collision > 0.0) {
+        return run.timing.steps_per_second_with_collision;
+      }
+    }
+    return std::nullopt;
+  };
+  const std::optional<double> fem = rate("corotational_fem");
+  std::vector<SpeedRatio> ratios;
+  for (const char* label : {"shape_matching", "mass_spring"}) {
+    SpeedRatio ratio{label, *thesis_steps_per_second(label) / *thesis_steps_per_second("corotational_fem"),
+                     std::nullopt};
+    const std::optional<double> ours = rate(label);
+    if (fem && ours) {
+      ratio.ours = *ours / *fem;
+    }
+    ratios.push_back(ratio);
+  }
+  return ratios;
+}
+
+namespace {
+
+/// Table B for one scene: each row matched to the tissue and measured against `reference`.
+MatchedScene run_matched(const scenes::Scene& scene,
+                         const SceneMesh& mesh,
+                         const std::vector<ModelVariant>& rows,
+                         const ReferenceSettings& settings,
+                         const ReferenceRun& reference,
+                         const CompareOptions& options) {
+  MatchedScene matched;
+  matched.name = scene.name;
+  matched.reference = settings.model;
+  CalibrationOptions calibration_options;
+  calibration_options.against = settings.model;
+  calibration_options.cache_dir = options.calibration_dir;
+  for (const ModelVariant& row : rows) {
+    scenes::Scene row_scene = scene;
+    if (!row.overrides.empty()) {
+      row_scene.override_parameters(row.model, row.overrides);
+    }
+    if (calibratable(row.model)) {
+      if (options.progress != nullptr) {
+        *options.progress << scene.name << " / " << row.label << ": calibrating to "
+                          << settings.model << "\n";
+      }
+      try {
+        const Calibration calibration = calibrate(row_scene, mesh, row.model, calibration_options);
+        row_scene.model_parameters[row.model] = calibration.params;
+        matched.calibrations[row.label] = {{"values", calibration.values},
+                                           {"targets", calibration.targets},
+                                           {"errors", calibration.errors},
+                                           {"evaluations", calibration.evaluations},
+                                           {"seconds", calibration.seconds},
+                                           {"cached", calibration.cached}};
+      } catch (const InputError& error) {
+        matched.notes.push_back(row.label + ": not calibrated, run with the scene's block ("
+                                + error.what() + ")");
+      }
+    }
+    RunOptions run_options;
+    run_options.models = {row.model};
+    run_options.warmup_steps = options.warmup_steps;
+    run_options.snapshot_times = comparison_times(scene, settings.times);
+    if (options.progress != nullptr) {
+      *options.progress << scene.name << " / " << row.label << " (matched):\n";
+    }
+    run_options.progress = options.progress;
+    run_options.live_progress = options.live_progress;
+    for (ModelRun& run : run_scene(row_scene, mesh, run_options)) {
+      run.model = row.label;
+      run.accuracy = accuracy_against(run.snapshots, run.contact.peak_tool_force, reference,
+                                      mesh.body.rest_positions());
+      run.snapshots.clear();  // measured; the report keeps the errors, not the shapes
+      matched.runs.push_back(std::move(run));
+    }
+  }
+  return matched;
+}
+
+}  // namespace
+
 Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const CompareOptions& options) {
   const std::vector<ModelVariant> rows = resolve_models(options.models);
   Comparison comparison;
@@ -299,8 +386,49 @@ Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const Compar
     }
     result.scene = scenes::to_json(scene);
     comparison.scenes.push_back(std::move(result));
+    if (options.matched) {
+      const ReferenceSettings settings;
+      if (options.progress != nullptr) {
+        *options.progress << scene.name << ": the reference (" << settings.model << ", dt / "
+                          << settings.substeps << ") for table B\n";
+      }
+      try {
+        const ReferenceRun reference =
+            reference_run(scene, mesh, settings, options.reference_dir);
+        comparison.matched.push_back(
+            run_matched(scene, mesh, rows, settings, reference, options));
+        const bool presses = scene.instrument && !scene.instrument->grasp && !scene.grasp;
+        if (options.equal_accuracy && presses && !comparison.equal_accuracy) {
+          EqualAccuracyOptions trade;
+          for (const ModelVariant& row : rows) {
+            if (row.overrides.empty()) {
+              trade.models.push_back(row.model);
+            }
+          }
+          trade.calibration_dir = options.calibration_dir;
+          trade.reference_model = settings.model;
+          trade.warmup_steps = options.warmup_steps;
+          trade.progress = options.progress;
+          comparison.equal_accuracy = run_equal_accuracy(scene, mesh, reference, trade);
+        }
+      } catch (const InputError& error) {
+        MatchedScene unmatched;
+        unmatched.name = scene.name;
+        unmatched.reference = settings.model;
+        unmatched.notes.push_back(std::string("no reference: ") + error.what());
+        comparison.matched.push_back(std::move(unmatched));
+      }
+    }
   }
-  comparison.claims = check_claims(comparison.scenes, comparison.criteria);
+  if (comparison.matched.empty()) {
+    comparison.claims = check_claims(comparison.scenes, comparison.criteria);
+  } else {
+    std::vector<SceneComparison> judged;
+    for (const MatchedScene& scene : comparison.matched) {
+      judged.push_back({scene.name, nlohmann::json::object(), scene.runs});
+    }
+    comparison.claims = check_claims(judged, comparison.criteria);
+  }
   return comparison;
 }
 

@@ -2,11 +2,14 @@
 #pragma once
 
 #include "harness/claim.h"
+#include "harness/compare/equal_accuracy.h"
 #include "harness/run/runner.h"
 #include "scenes/scene.h"
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
+#include <map>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -66,8 +69,27 @@ struct ClaimCriteria {
 std::vector<Claim> check_claims(const std::vector<SceneComparison>& scenes,
                                 const ClaimCriteria& criteria = {});
 
+/// One scene's runs matched to the tissue (table B): each row's model calibrated to the reference
+/// where its stiffness is not a material constant (harness/calibrate/calibration.h), the same
+/// block as table A's where it follows the material, and every run measured against the
+/// converged reference (ModelRun::accuracy).
+struct MatchedScene {
+  std::string name;
+  std::string reference;       ///< the reference model
+  std::vector<ModelRun> runs;  ///< labelled as in table A, each with its accuracy
+  /// Per row label, for a calibrated row: {"values", "targets", "errors", "evaluations",
+  /// "seconds", "cached"}.
+  std::map<std::string, nlohmann::json> calibrations;
+  std::vector<std::string> notes;  ///< what could not be matched, and why
+};
+
 struct Comparison {
   std::vector<SceneComparison> scenes;
+  /// Table B, one per scene (empty when not asked for). The claims are judged on it when
+  /// present, on table A otherwise.
+  std::vector<MatchedScene> matched;
+  /// The speed-accuracy trade on the first scene that presses (empty if none, or not asked).
+  std::optional<EqualAccuracy> equal_accuracy;
   std::vector<Claim> claims;
   ClaimCriteria criteria;
   std::string machine;  ///< where ours were measured (CPU model), for the reader
@@ -78,9 +100,27 @@ struct CompareOptions {
   int warmup_steps = 10;            ///< RunOptions::warmup_steps
   std::ostream* progress = nullptr;
   bool live_progress = false;
+  /// Table B too: calibrate, run again, measure against the reference (cached under these).
+  bool matched = true;
+  /// With table B: the equal-accuracy table on the first scene whose instrument presses.
+  bool equal_accuracy = true;
+  std::filesystem::path reference_dir = std::filesystem::path("out") / "reference";
+  std::filesystem::path calibration_dir = std::filesystem::path("out") / "calibration";
 };
 
-/// Runs every scene through every row (run_scene, one row at a time) and checks the claims.
+/// The thesis's speed ratios against its FEM (section 3.5.1: shape matching 787 / 36.5 = 21.6,
+/// mass-spring 335.7 / 36.5 = 9.2) and ours from `runs` (steps/s with collision against
+/// corotational_fem's): {label, thesis ratio, our ratio or nullopt when a row is missing}.
+struct SpeedRatio {
+  std::string label;
+  double thesis = 0.0;
+  std::optional<double> ours;
+};
+std::vector<SpeedRatio> speed_ratios(const std::vector<ModelRun>& runs);
+
+/// Runs every scene through every row (run_scene, one row at a time), then, when
+/// options.matched, table B (the reference, the calibrations, the rows again), and checks the
+/// claims.
 /// Throws InputError for an unknown model name before any model runs, and for a bad parameter
 /// block or mesh when its scene's turn comes.
 Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const CompareOptions& options);

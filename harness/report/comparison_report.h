@@ -11,7 +11,7 @@
 namespace softbench::harness {
 
 /// compare.json's schema version ("softbench_compare"); bump it when a key changes meaning.
-inline constexpr int kCompareSchemaVersion = 3;
+inline constexpr int kCompareSchemaVersion = 4;
 
 /// compare.json: provenance, the thesis's figures, the criteria, per scene each run as
 /// metrics.json writes it (model_run_json.h) with the thesis's figure beside it

@@ -137,7 +137,8 @@ nlohmann::json to_json(const ModelRun& run) {
     json["accuracy"] = {{"rms_error", number_or_null(a.rms_error)},
                         {"max_error", number_or_null(a.max_error)},
                         {"volume_error", number_or_null(a.volume_error)},
-                        {"peak_force_error", optional_json(a.peak_force_error)}};
+                        {"peak_force_error", optional_json(a.peak_force_error)},
+                        {"diagonal_error", number_or_null(a.diagonal_error)}};
   } else {
     json["accuracy"] = nullptr;  // the scene asks for no accuracy: no reference was run
   }
@@ -221,7 +222,8 @@ ModelRun model_run_from_json(const JsonReader& in) {
     run.accuracy = Accuracy{number_or(accuracy, "rms_error", kInfinity),
                             number_or(accuracy, "max_error", kInfinity),
                             number_or(accuracy, "volume_error", kInfinity),
-                            optional_number(accuracy, "peak_force_error")};
+                            optional_number(accuracy, "peak_force_error"),
+                            number_or(accuracy, "diagonal_error", kInfinity)};
   }
   for (const JsonReader& warning : in.objects("warnings")) {
     run.warnings.push_back({warning.string("id"), warning.string("message")});

@@ -38,19 +38,25 @@ Accuracy accuracy_against(const std::vector<Snapshot>& snapshots,
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   Accuracy accuracy;
   double rms_sum = 0.0;
+  double diagonal_sum = 0.0;
+  const double diagonal = (rest.rowwise().maxCoeff() - rest.rowwise().minCoeff()).norm();
   for (std::size_t i = 0; i < reference.times.size(); ++i) {
     if (i >= snapshots.size()) {  // blew up before this time
-      return {kInfinity, kInfinity, kInfinity, kInfinity};
+      return {kInfinity, kInfinity, kInfinity, kInfinity, kInfinity};
     }
     const auto [rms, max] = position_errors(snapshots[i].positions, reference.positions[i], rest);
     rms_sum += rms;
+    const Eigen::VectorXd distance = (snapshots[i].positions - reference.positions[i]).colwise().norm();
+    diagonal_sum += std::sqrt(distance.squaredNorm() / std::max<Eigen::Index>(distance.size(), 1))
+                    / std::max(diagonal, 1e-12);
     accuracy.max_error = std::max(accuracy.max_error, max);
     accuracy.volume_error =
         std::max(accuracy.volume_error,
                  std::abs(snapshots[i].volume - reference.volumes[i]) / reference.volumes[i]);
   }
-  accuracy.rms_error =
-      reference.times.empty() ? 0.0 : rms_sum / static_cast<double>(reference.times.size());
+  const double count = static_cast<double>(std::max<std::size_t>(reference.times.size(), 1));
+  accuracy.rms_error = rms_sum / count;
+  accuracy.diagonal_error = diagonal_sum / count;
   if (reference.peak_tool_force > 0.0) {
     accuracy.peak_force_error =
         std::abs(peak_tool_force - reference.peak_tool_force) / reference.peak_tool_force;

@@ -35,6 +35,9 @@ struct Accuracy {
   double max_error = 0.0;     ///< largest over times of max |x - x_ref| / max |x_ref - x_rest|
   double volume_error = 0.0;  ///< largest over times of |V - V_ref| / V_ref
   std::optional<double> peak_force_error;  ///< |F - F_ref| / F_ref of the peak tool force
+  /// mean over times of RMS |x - x_ref| / the rest bounding-box diagonal: the error as a share
+  /// of the body's size, comparable across scenes however far the reference moved.
+  double diagonal_error = 0.0;
 };
 
 /// The compared times for `scene`: `count` evenly spaced in (0, duration].

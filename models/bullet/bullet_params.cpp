@@ -6,6 +6,7 @@
 #include "models/json_reader.h"
 #include "models/param_table.h"
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
@@ -36,7 +37,11 @@ ParamTable<BulletSoftBodyParams> make_softbody_table() {
               "Bullet's kVC >= 0: pressure keeping the closed surface's volume; 0 = off.")
       .integer("clusters", &Params::clusters, 0, kMaxCount,
                "k-means clusters, each matching its own rigid frame with pose_matching; 0 = "
-               "none. More: stiffer locally, costlier.");
+               "none. More: stiffer locally, costlier.")
+      .record("calibrated", &Params::calibrated,
+              "null, or the record `softbench calibrate` writes: the reference, dt, its sag and "
+              "press forces, the errors left. Echoed so reports show the stiffness was fitted, "
+              "and for which dt.");
   return table;
 }
 
@@ -92,51 +97,11 @@ const ParamTable<BulletDeformableParams>& deformable_table() {
   return table;
 }
 
-constexpr const char* kCalibratedKey = "calibrated";
-
-/// The optional "calibrated" record is an object, which the table has no type for: it is read
-/// here and the rest of the block goes through the table.
-BulletSoftBodyParams read_softbody(const nlohmann::json& json,
-                                   const std::string& file,
-                                   const std::string& pointer) {
-  std::optional<BulletCalibration> calibrated;
-  nlohmann::json rest = json;
-  if (json.is_object() && json.contains(kCalibratedKey)) {
-    const nlohmann::json& record = json[kCalibratedKey];
-    if (!record.is_null()) {
-      const JsonReader block(json, file, pointer);
-      if (!record.is_object()) {
-        block.fail_expected(kCalibratedKey,
-                            "null or an object {\"against\": model, \"dt\": s, \"sag\": m}");
-      }
-      const JsonReader in = block.object(kCalibratedKey);
-      calibrated = BulletCalibration{in.string("against"), in.number("dt", Range::positive()),
-                                     in.number("sag")};
-      in.reject_unknown_keys();
-    }
-    rest.erase(kCalibratedKey);
-  }
-  BulletSoftBodyParams params = softbody_table().read(rest, file, pointer);
-  params.calibrated = std::move(calibrated);
-  return params;
-}
-
-nlohmann::json to_json(const BulletSoftBodyParams& params) {
-  nlohmann::json json = softbody_table().to_json(params);
-  json[kCalibratedKey] = nullptr;
-  if (params.calibrated) {
-    json[kCalibratedKey] = {{"against", params.calibrated->against},
-                            {"dt", params.calibrated->dt},
-                            {"sag", params.calibrated->sag}};
-  }
-  return json;
-}
-
 std::unique_ptr<SoftBody> make_softbody_body(const TetMesh& mesh,
                                              const Material& material,
                                              const BulletSoftBodyParams& params) {
   return std::make_unique<BulletBody>(
-      "bullet_softbody", to_json(params), BulletMesh::from(mesh, material.density),
+      "bullet_softbody", softbody_table().to_json(params), BulletMesh::from(mesh, material.density),
       [params](const BulletMesh& loaded) { return make_softbody_world(loaded, params); });
 }
 
@@ -160,13 +125,9 @@ ModelInfo bullet_softbody_info() {
       "Bullet 3.24 btSoftBody: position-based links on the edges (kLST, no unit: calibrate "
       "it), optional pose matching, volume conservation and clusters";
   info.parameters = bullet::softbody_table().docs();
-  info.parameters.push_back(
-      {bullet::kCalibratedKey, nullptr,
-       "null, or {\"against\": model, \"dt\": s, \"sag\": m} as `softbench calibrate` prints "
-       "it: echoed so reports show the stiffness was fitted, and for which dt."});
   info.create = [](const TetMesh& mesh, const Material& material, const nlohmann::json& params,
                    const ParamSource& source) -> std::unique_ptr<SoftBody> {
-    const BulletSoftBodyParams parsed = bullet::read_softbody(params, source.file, source.pointer);
+    const BulletSoftBodyParams parsed = bullet::softbody_table().read(params, source.file, source.pointer);
     validate_material(material, source.file + ": /material");
     return bullet::make_softbody_body(mesh, material, parsed);
   };
@@ -175,6 +136,14 @@ ModelInfo bullet_softbody_info() {
       "kLST (link stiffness, no unit); btSoftBody's links ignore Young's modulus"};
   // kDP scales velocities, which are zero at rest: the equilibrium does not depend on it.
   info.settling_damping = {{"damping", 0.05}};  // per step
+  // kLST over four decades (1 is the stiffest a link gets), at the scene's position_iterations.
+  info.calibration.fitted = {{"stiffness", 1e-4, 1.0, true}};
+  // kDP removes a fraction of the velocity per step: exp(-alpha dt) is what a drag alpha leaves.
+  info.calibration.matched_damping = [](double alpha, double dt) {
+    return nlohmann::json{{"damping", 1.0 - std::exp(-alpha * dt)}};
+  };
+  // Fewer link projections: cheaper (linearly), softer, so refitted stiffer.
+  info.speed_settings = {{{"position_iterations", 4}}, {{"position_iterations", 2}}};
   return info;
 }
 
@@ -204,7 +173,8 @@ std::unique_ptr<SoftBody> make_bullet_softbody(const TetMesh& mesh,
                                                const BulletSoftBodyParams& params) {
   validate_material(material, "make_bullet_softbody: material");
   // Round trip through the table: its ranges are the one statement of what is valid.
-  static_cast<void>(bullet::read_softbody(bullet::to_json(params), "make_bullet_softbody", ""));
+  static_cast<void>(bullet::softbody_table().read(bullet::softbody_table().to_json(params),
+                                                  "make_bullet_softbody", ""));
   return bullet::make_softbody_body(mesh, material, params);
 }
 

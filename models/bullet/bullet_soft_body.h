@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/tet_mesh.h"
+#include "models/calibration_record.h"
 #include "models/material.h"
 #include "models/model_registry.h"
 #include "models/soft_body.h"
@@ -74,13 +75,6 @@ namespace softbench {
 // Bullet's force evaluated by the adapter from the tets (neo-Hookean relative to the rest state,
 // whose energy density Bullet's formula does not zero). reset() rebuilds the Bullet world.
 
-/// A fit of a non-physical stiffness to a reference, echoed so reports show it.
-struct BulletCalibration {
-  std::string against;  ///< the reference model, e.g. "corotational_fem"
-  double dt = 0.0;      ///< s: the step the fit holds for (it does not transfer to another dt)
-  double sag = 0.0;     ///< m: the reference's static sag under gravity that was matched
-};
-
 struct BulletSoftBodyParams {
   /// Bullet's link stiffness kLST, in (0, 1], no unit: the fraction of each link's length error
   /// removed per projection. Its effect depends on dt, position_iterations and the mesh (the
@@ -103,7 +97,7 @@ struct BulletSoftBodyParams {
   /// rigid frame (local shape matching, strength pose_matching): costlier, stiffer locally.
   int clusters = 0;
   /// Set by `softbench calibrate`; absent (null) when stiffness was not fitted.
-  std::optional<BulletCalibration> calibrated;
+  std::optional<CalibrationRecord> calibrated;
 };
 
 struct BulletDeformableParams {

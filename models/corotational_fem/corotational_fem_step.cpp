@@ -2,10 +2,10 @@
 // One step of the corotational FEM: rotations, element terms, gather into the fixed pattern,
 // exact constraints by elimination, one linear solve, update and reactions.
 #include "models/corotational_fem/corotational_fem_model.h"
+#include "models/phase_clock.h"
 #include "models/corotational_fem/polar_decomposition.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cstddef>
 
 namespace softbench::corotational_fem {
@@ -19,27 +19,6 @@ namespace {
 /// 1.6. From liver_x4 (22861 tets, ~1 ms per pass) the gain outweighs that risk.
 constexpr int kParallelElements = 16384;
 constexpr int kParallelVertices = BlockPattern::kParallelVertices;
-
-/// Adds the wall time since the previous lap to one phase of `times` (no-op when null).
-class PhaseClock {
- public:
-  explicit PhaseClock(PhaseTimes* times) : times_(times) {
-    if (times_ != nullptr) {
-      since_ = std::chrono::steady_clock::now();
-    }
-  }
-  void lap(double PhaseTimes::*phase) {
-    if (times_ != nullptr) {
-      const auto now = std::chrono::steady_clock::now();
-      times_->*phase += std::chrono::duration<double>(now - since_).count();
-      since_ = now;
-    }
-  }
-
- private:
-  PhaseTimes* times_;
-  std::chrono::steady_clock::time_point since_;
-};
 
 }  // namespace
 

@@ -16,14 +16,9 @@ namespace mass_spring {
 namespace {
 
 /// The spring joining vertices a and b, found among a's incident springs.
-int spring_between(int a,
-                   int b,
-                   const Eigen::Matrix2Xi& springs,
-                   const std::vector<int>& offsets,
-                   const std::vector<int>& incident) {
-  for (int k = offsets[static_cast<std::size_t>(a)]; k < offsets[static_cast<std::size_t>(a) + 1];
-       ++k) {
-    const int spring = incident[static_cast<std::size_t>(k)];
+int spring_between(int a, int b, const Eigen::Matrix2Xi& springs, const SpringSystem& system) {
+  for (int k = system.incident_begin(a); k < system.incident_end(a); ++k) {
+    const int spring = system.incident_springs()[static_cast<std::size_t>(k)];
     if (springs(0, spring) + springs(1, spring) - a == b) {
       return spring;
     }
@@ -37,8 +32,7 @@ Eigen::VectorXd volume_weighted_stiffness(const TetMesh& mesh,
                                           double young_modulus,
                                           const Eigen::Matrix2Xi& springs,
                                           const Eigen::VectorXd& rest_lengths,
-                                          const std::vector<int>& offsets,
-                                          const std::vector<int>& incident) {
+                                          const SpringSystem& system) {
   constexpr std::array<std::pair<int, int>, 6> kTetEdges{
       {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
   Eigen::VectorXd volume_around = Eigen::VectorXd::Zero(springs.cols());
@@ -48,7 +42,7 @@ Eigen::VectorXd volume_weighted_stiffness(const TetMesh& mesh,
     const double volume =
         signed_tet_volume(x.col(tet(0)), x.col(tet(1)), x.col(tet(2)), x.col(tet(3)));
     for (const auto& [a, b] : kTetEdges) {
-      volume_around(spring_between(tet(a), tet(b), springs, offsets, incident)) += volume;
+      volume_around(spring_between(tet(a), tet(b), springs, system)) += volume;
     }
   }
   return young_modulus * volume_around.cwiseQuotient(rest_lengths.cwiseAbs2());
@@ -61,9 +55,10 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh,
                                  const MassSpringParams& params)
     : params_(params),
       num_vertices_(mesh.num_vertices()),
-      springs_(unique_edges(mesh.tets())),
+      springs_(unique_edges(mesh.tets())),  // sorted, as SpringSystem needs them
       masses_(lumped_masses(mesh, material.density)),
       rest_positions_(mesh.rest_positions()),
+      system_(mesh.num_vertices(), springs_),
       constraints_(mesh.num_vertices()) {
   const Eigen::Index num_springs = springs_.cols();
   rest_lengths_.resize(num_springs);
@@ -72,45 +67,29 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh,
         (rest_positions_.col(springs_(1, e)) - rest_positions_.col(springs_(0, e))).norm();
   }
 
-  incident_offsets_.assign(static_cast<std::size_t>(num_vertices_) + 1, 0);
-  for (Eigen::Index e = 0; e < num_springs; ++e) {
-    ++incident_offsets_[static_cast<std::size_t>(springs_(0, e)) + 1];
-    ++incident_offsets_[static_cast<std::size_t>(springs_(1, e)) + 1];
-  }
-  for (std::size_t v = 0; v < static_cast<std::size_t>(num_vertices_); ++v) {
-    incident_offsets_[v + 1] += incident_offsets_[v];
-  }
-  incident_springs_.resize(static_cast<std::size_t>(incident_offsets_.back()));
-  std::vector<int> fill(incident_offsets_.begin(), incident_offsets_.end() - 1);
-  for (Eigen::Index e = 0; e < num_springs; ++e) {
-    for (int end = 0; end < 2; ++end) {
-      incident_springs_[static_cast<std::size_t>(
-          fill[static_cast<std::size_t>(springs_(end, e))]++)] = static_cast<int>(e);
-    }
-  }
-
   if (params_.stiffness_from == MassSpringParams::StiffnessFrom::kYoungModulus) {
     spring_stiffness_ =
-        volume_weighted_stiffness(mesh, material.young_modulus, springs_, rest_lengths_,
-                                  incident_offsets_, incident_springs_);
+        volume_weighted_stiffness(mesh, material.young_modulus, springs_, rest_lengths_, system_);
   } else {
     spring_stiffness_ = Eigen::VectorXd::Constant(num_springs, params_.stiffness);
   }
+  spring_stiffness_ *= params_.stiffness_scale;
+  spring_damping_ =
+      (params_.damping + params_.rayleigh_stiffness * spring_stiffness_.array()).matrix();
 
   spring_forces_.resize(3, num_springs);
   if (params_.integrator == MassSpringParams::Integrator::kImplicitEuler) {
+    const Eigen::Index size = 3 * static_cast<Eigen::Index>(num_vertices_);
     spring_rhs_.resize(3, num_springs);
-    spring_blocks_.resize(9, num_springs);
     known_changes_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
-    pattern_ = std::make_unique<BlockPattern>(num_vertices_, springs_);
-    LinearSolverOptions options;
-    options.kind = params_.solver == MassSpringParams::LinearSolver::kCholmod
-                       ? LinearSolverOptions::Kind::kCholmod
-                       : LinearSolverOptions::Kind::kConjugateGradient;
-    options.tolerance = params_.cg_tolerance;
-    options.max_iterations = params_.cg_max_iterations;
-    solver_ = make_system_solver(options, *pattern_);
-    rhs_.resize(3 * static_cast<Eigen::Index>(num_vertices_));
+    rhs_.resize(size);
+    if (params_.solver == MassSpringParams::LinearSolver::kCholmod) {
+      pattern_ = std::make_unique<BlockPattern>(num_vertices_, springs_);
+      LinearSolverOptions options;
+      options.kind = LinearSolverOptions::Kind::kCholmod;
+      solver_ = make_system_solver(options, *pattern_);
+      cholmod_rhs_.resize(size);
+    }
   }
   reset();
 }
@@ -123,9 +102,14 @@ void MassSpringModel::reset() {
   positions_ = rest_positions_;
   velocities_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
-  if (pattern_ != nullptr) {
+  if (params_.integrator == MassSpringParams::Integrator::kImplicitEuler) {
     velocity_change_ = Eigen::VectorXd::Zero(3 * static_cast<Eigen::Index>(num_vertices_));
+    drop_warm_start();
   }
+}
+
+void MassSpringModel::drop_warm_start() {
+  system_.forget_solutions();
 }
 
 void MassSpringModel::set_state(const Eigen::Matrix3Xd& positions,
@@ -133,14 +117,14 @@ void MassSpringModel::set_state(const Eigen::Matrix3Xd& positions,
   check_state(positions, velocities);
   positions_ = positions;
   velocities_ = velocities;
+  // The warm start's past solutions stay: a step repeated from its start (the instrument
+  // contact's passes) finds the last pass's solution among them.
 }
 
 void MassSpringModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   velocities_ = velocities;
-  if (pattern_ != nullptr) {
-    velocity_change_.setZero();
-  }
+  drop_warm_start();
 }
 
 double MassSpringModel::elastic_energy() const {
@@ -155,14 +139,14 @@ double MassSpringModel::elastic_energy() const {
 
 std::size_t MassSpringModel::memory_bytes() const {
   std::size_t bytes = bytes_of(springs_) + bytes_of(rest_lengths_) + bytes_of(spring_stiffness_)
-                      + bytes_of(masses_) + bytes_of(rest_positions_) + bytes_of(positions_)
-                      + bytes_of(velocities_) + bytes_of(constraint_forces_)
-                      + bytes_of(spring_forces_) + bytes_of(spring_rhs_) + bytes_of(spring_blocks_)
-                      + bytes_of(known_changes_) + bytes_of(rhs_) + bytes_of(velocity_change_)
-                      + (incident_offsets_.size() + incident_springs_.size()) * sizeof(int)
+                      + bytes_of(spring_damping_) + bytes_of(masses_) + bytes_of(rest_positions_)
+                      + bytes_of(positions_) + bytes_of(velocities_) + bytes_of(constraint_forces_)
+                      + bytes_of(spring_forces_) + bytes_of(spring_rhs_) + bytes_of(known_changes_)
+                      + bytes_of(rhs_) + bytes_of(velocity_change_) + system_.memory_bytes()
                       + constraints_.memory_bytes();
   if (pattern_ != nullptr) {
-    bytes += pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes();
+    bytes += pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes()
+             + bytes_of(cholmod_rhs_);
   }
   return bytes;
 }

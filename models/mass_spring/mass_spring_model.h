@@ -5,6 +5,7 @@
 #include "models/block_pattern.h"
 #include "models/implicit_system.h"
 #include "models/mass_spring/mass_spring.h"
+#include "models/mass_spring/spring_system.h"
 #include "models/param_table.h"
 #include "models/system_solver.h"
 
@@ -22,16 +23,35 @@ const ParamTable<MassSpringParams>& param_table();
 /// stiffness, ...): the table's ranges are the only statement of what is valid.
 void validate(const MassSpringParams& params, const std::string& where);
 
-/// The model of mass_spring.h. Construction precomputes everything; see step() for the
-/// per-step work. StepStats.residual is the CG relative residual, or for CHOLMOD the relative
-/// residual |A dv - b| / |b| of the solved (constraint-eliminated) system; 0 for symplectic Euler.
+/// Wall time of the phases of an implicit step, accumulated over the steps that were given it (s).
+struct PhaseTimes {
+  double springs = 0.0;   ///< per spring: length, direction, force, the Jacobian's coefficients
+  double assembly = 0.0;  ///< per vertex: forces and right-hand side, diagonal blocks and their
+                          ///< inverses; the constraints (CHOLMOD: the matrix and the elimination)
+  double solve = 0.0;     ///< the linear solve
+  double update = 0.0;    ///< positions, velocities, reactions
+};
+
+/// The model of mass_spring.h. Construction precomputes everything; a step allocates nothing
+/// (but a constraint set larger than any before, and CHOLMOD's own).
+///
+/// An implicit step: (1) per spring (parallel over springs from BlockPattern::kParallelVertices
+/// vertices), its force, right-hand side part and Jacobian block B_e = u u^T + s I as four
+/// numbers; (2) per vertex (parallel likewise, gathering its springs in a fixed order), the
+/// right-hand side and the diagonal block with its inverse; (3) the solve: "cg" on the springs'
+/// coefficients (SpringSystem, one thread, constraints by filtering), "cholmod" on a BlockPattern
+/// assembled from them (constraints by ConstraintElimination); (4) the update and the reactions
+/// (each exact vertex's row of the system as assembled). Results do not depend on the thread
+/// count.
 class MassSpringModel final : public SoftBody {
  public:
   MassSpringModel(const TetMesh& mesh, const Material& material, const MassSpringParams& params);
 
   std::string_view name() const override { return "mass_spring"; }
   nlohmann::json parameters() const override;
-  StepStats step(double dt, const StepInput& input) override;
+  StepStats step(double dt, const StepInput& input) override { return step_timed(dt, input); }
+  /// step(), adding the wall time of an implicit step's phases to `times` (when not null).
+  StepStats step_timed(double dt, const StepInput& input, PhaseTimes* times = nullptr);
   void reset() override;
 
   const Eigen::Matrix3Xd& positions() const override { return positions_; }
@@ -47,7 +67,8 @@ class MassSpringModel final : public SoftBody {
   /// Per spring: elastic + dashpot force on its first vertex (the second gets the opposite).
   void compute_spring_forces();
   /// Per spring, for backward Euler: the force plus dt K_e (v_i - v_j), and the block
-  /// dt c d d^T + dt^2 k S that the spring adds to A (Baraff & Witkin 1998, section 4).
+  /// dt c d d^T + dt^2 k S that the spring adds to A (Baraff & Witkin 1998, section 4), as
+  /// SpringSystem's coefficients.
   void compute_spring_linearization(double dt);
   /// Forces of gravity, external loads, mass damping and penalty constraints on `vertex`.
   Eigen::Vector3d vertex_force(int vertex,
@@ -55,29 +76,32 @@ class MassSpringModel final : public SoftBody {
                                const PositionConstraint* constraint) const;
 
   StepStats step_symplectic(double dt, const StepInput& input);
-  StepStats step_implicit(double dt, const StepInput& input);
-  /// Assembles A and b of (M - dt D - dt^2 K) dv = dt (f + dt K v) into the fixed pattern.
+  StepStats step_implicit(double dt, const StepInput& input, PhaseTimes* times);
+  /// b of (M - dt D - dt^2 K) dv = dt (f + dt K v), and the system's vertex terms.
   void assemble_implicit_system(double dt, const StepInput& input);
-  /// Moves the known dv of exactly constrained vertices to the right-hand side and makes their
-  /// rows and columns identity (ConstraintElimination).
-  void eliminate_exact_constraints(double dt);
-  /// (A dv - b)_c / dt with the unmodified rows of every exactly constrained vertex.
+  /// CHOLMOD: A from the springs' coefficients into the pattern, b into cholmod_rhs_, the exact
+  /// constraints eliminated, the solve.
+  SolveReport solve_cholmod();
+  /// The constraint forces: penalty springs' at the end of the step, exact constraints'
+  /// (A dv - b)_c / dt along their held directions, from the rows as assembled.
   void compute_implicit_reactions(double dt);
   StepStats finish_step() const;
+  void drop_warm_start();
 
   MassSpringParams params_;
   int num_vertices_ = 0;
 
-  // Springs (the unique edges of the tet mesh) and vertices, fixed after construction.
+  // Springs (the unique edges of the tet mesh, sorted) and vertices, fixed after construction.
   Eigen::Matrix2Xi springs_;
   Eigen::VectorXd rest_lengths_;
   Eigen::VectorXd spring_stiffness_;
+  Eigen::VectorXd spring_damping_;  ///< damping + rayleigh_stiffness * k_e
   Eigen::VectorXd masses_;
   Eigen::Matrix3Xd rest_positions_;
-  // Springs incident to each vertex (CSR): per-vertex gathers need no atomics, so a parallel
-  // loop sums in a fixed order and results do not depend on the thread count.
-  std::vector<int> incident_offsets_;
-  std::vector<int> incident_springs_;
+  // The system's springs and vertex blocks, and the springs incident to each vertex (CSR):
+  // per-vertex gathers need no atomics, so a parallel loop sums in a fixed order and results
+  // do not depend on the thread count.
+  SpringSystem system_;
 
   // State.
   Eigen::Matrix3Xd positions_;
@@ -87,16 +111,17 @@ class MassSpringModel final : public SoftBody {
   // Per-step work arrays, sized once.
   Eigen::Matrix3Xd spring_forces_;  ///< 3 x #springs, on the first vertex
   Eigen::Matrix3Xd spring_rhs_;     ///< 3 x #springs, f_e + dt K_e (v_i - v_j)
-  Eigen::Matrix<double, 9, Eigen::Dynamic> spring_blocks_;  ///< 3x3 blocks, column-major
-  VertexConstraints constraints_;                           ///< bound for the duration of one step
+  VertexConstraints constraints_;   ///< bound for the duration of one step
 
   // Implicit Euler only.
+  Eigen::Matrix3Xd known_changes_;   ///< dv at exactly constrained vertices (3 x #V)
+  Eigen::VectorXd rhs_;              ///< b, as assembled
+  Eigen::VectorXd velocity_change_;  ///< dv (the solve keeps the last ones for its warm start)
+  // CHOLMOD only: the assembled matrix, its solver and the constraint elimination.
   std::unique_ptr<BlockPattern> pattern_;
   std::unique_ptr<SystemSolver> solver_;
   ConstraintElimination elimination_;
-  Eigen::Matrix3Xd known_changes_;  ///< dv at exactly constrained vertices (3 x #V)
-  Eigen::VectorXd rhs_;
-  Eigen::VectorXd velocity_change_;  ///< dv; the previous step's warm-starts CG
+  Eigen::VectorXd cholmod_rhs_;
 };
 
 }  // namespace softbench::mass_spring

@@ -16,18 +16,29 @@ ParamTable<Params> make_param_table() {
   ParamTable<Params> table;
   table
       .number("stiffness", &Params::stiffness, Range::positive(),
-              "N/m per spring, used when stiffness_from is \"given\" (the thesis: 180). Stiffer: "
-              "smaller deformation and a smaller stable dt for symplectic Euler.")
+              "N/m per spring, used only when stiffness_from is \"given\" (the thesis: 180). "
+              "Stiffer: smaller deformation and a smaller stable dt for symplectic Euler.")
       .choice("stiffness_from", &Params::stiffness_from,
               {{"given", Params::StiffnessFrom::kGiven},
                {"young_modulus", Params::StiffnessFrom::kYoungModulus}},
-              "\"given\": every spring has `stiffness`; \"young_modulus\": k_e = E * (volume of "
-              "the tets sharing e) / L_e^2 (Van Gelder 1998), following material and resolution.")
+              "\"young_modulus\" (default): k_e = E * (volume of the tets sharing e) / L_e^2 "
+              "(Van Gelder 1998), following the material and the mesh resolution; \"given\": "
+              "every spring has `stiffness` (the thesis).")
+      .number("stiffness_scale", &Params::stiffness_scale, Range::positive(),
+              "multiplies every spring's stiffness (default 1). Springs from E are not the "
+              "material exactly (a spring network has no Poisson's ratio): `softbench "
+              "calibrate` fits this so the springs sag and press as the reference does.")
       .number("damping", &Params::damping, Range::non_negative(),
-              "N s/m per spring, along the spring (the thesis: 5). More: faster settling, less "
-              "rebound.")
+              "N s/m per spring, a dashpot along the spring, the same for every spring (the "
+              "thesis: 5; default 0). More: faster settling, less rebound.")
+      .number("rayleigh_stiffness", &Params::rayleigh_stiffness, Range::non_negative(),
+              "s, Rayleigh stiffness damping: each spring gets a further dashpot "
+              "rayleigh_stiffness * k_e along it, damping a mode of angular frequency omega at a "
+              "ratio of about rayleigh_stiffness * omega / 2 (faster modes more). Default 0.")
       .number("mass_damping", &Params::mass_damping, Range::non_negative(),
-              "1/s, a drag -mass_damping * m * v on every vertex.")
+              "1/s, Rayleigh mass damping: a drag -mass_damping * m * v on every vertex, damping "
+              "a mode of angular frequency omega at a ratio of mass_damping / (2 omega) (slow "
+              "modes more). Default 0.")
       .choice("integrator", &Params::integrator,
               {{"symplectic_euler", Params::Integrator::kSymplecticEuler},
                {"implicit_euler", Params::Integrator::kImplicitEuler}},
@@ -38,15 +49,26 @@ ParamTable<Params> make_param_table() {
               {{"cholmod", Params::LinearSolver::kCholmod},
                {"cg", Params::LinearSolver::kConjugateGradient}},
               "implicit Euler only. \"cholmod\": exact, refactorises every step; \"cg\": "
-              "warm-started Jacobi-PCG, stops at cg_tolerance (fast, approximate).")
+              "matrix-free preconditioned CG on the springs, warm-started, stopping at "
+              "cg_tolerance (fast; as accurate as cg_tolerance asks).")
+      .choice("preconditioner", &Params::preconditioner,
+              {{"ssor", Params::Preconditioner::kSsor},
+               {"block_jacobi", Params::Preconditioner::kBlockJacobi}},
+              "\"cg\" only. \"ssor\": symmetric Gauss-Seidel sweeps in Eisenstat's form, "
+              "about half the iterations of \"block_jacobi\" (the inverse 3x3 vertex blocks) "
+              "at about the same cost per iteration.")
       .number("cg_tolerance", &Params::cg_tolerance, Range{0.0, 1.0, false, false},
               "the estimated energy-norm error of the step's new velocity, relative, at which CG "
-              "stops. 1e-6 matches CHOLMOD within 4e-6 of the peak force on the liver press; 1e-3 "
-              "does not (a 6% peak error: the thesis's stiff, damped springs make the contact "
-              "forces sensitive). Smaller: more accurate, more iterations.")
+              "stops. On the liver press, 1e-6 follows CHOLMOD within 1e-8 m RMS and within 1e-6 "
+              "of the peak tool force all along, with springs from E or the thesis's; 1e-3 is "
+              "8e-4 off the peak with the thesis's stiff, damped springs (2e-5 with springs from "
+              "E). Smaller: more accurate, more iterations.")
       .integer("cg_max_iterations", &Params::cg_max_iterations, 1, std::numeric_limits<int>::max(),
                "cap on CG iterations per step; a step that hits it reports iterations == cap and "
-               "its residual.");
+               "its residual.")
+      .record("calibrated", &Params::calibrated,
+              "null, or the record `softbench calibrate` writes when it fitted stiffness_scale: "
+              "the reference, dt, its sag and press forces, the errors left.");
   return table;
 }
 
@@ -83,6 +105,16 @@ ModelInfo mass_spring_info() {
   info.stiffness_axis.fixed_params = {{"stiffness_from", "young_modulus"}};
   info.stiffness_axis.note =
       "the material's Young's modulus, springs derived from it (stiffness_from = young_modulus)";
+  info.mass_damping = "mass_damping";
+  // Van Gelder's springs from E, scaled: a decade and a half either way covers any mesh.
+  info.calibration.fitted = {{"stiffness_scale", 0.05, 20.0, true}};
+  info.calibration.fixed = {
+      {"stiffness_from", "young_modulus"}, {"damping", 0.0}, {"rayleigh_stiffness", 0.0}};
+  info.calibration.matched_damping = [](double alpha, double) {
+    return nlohmann::json{{"mass_damping", alpha}};
+  };
+  // Looser CG stops: fewer iterations a step.
+  info.speed_settings = {{{"cg_tolerance", 1e-4}}, {{"cg_tolerance", 1e-2}}};
   return info;
 }
 

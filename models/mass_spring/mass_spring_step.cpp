@@ -2,18 +2,20 @@
 // One step of the mass-spring model: spring forces and their Jacobians, symplectic Euler, and
 // linearised backward Euler (Baraff & Witkin 1998) with exact constraints by elimination.
 #include "models/mass_spring/mass_spring_model.h"
+#include "models/phase_clock.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 
 namespace softbench::mass_spring {
 namespace {
 
-/// Loops shorter than this run on one thread: starting a parallel region costs more than it saves.
-constexpr Eigen::Index kParallelThreshold = 4096;
-
-using ConstBlock = Eigen::Map<const Eigen::Matrix3d>;
-using Block = Eigen::Map<Eigen::Matrix3d>;
+/// Loops over springs and vertices run on one thread below this many vertices, as the implicit
+/// models' other loops (BlockPattern::kParallelVertices): on the liver (1215 vertices, 6802
+/// springs) a pass costs ~0.05 ms, less than what a parallel region risks on a shared machine
+/// when the other thread is descheduled (corotational_fem_step.cpp measured a time slice).
+constexpr int kParallelVertices = BlockPattern::kParallelVertices;
 
 /// A spring's current length and unit direction from its first vertex to its second.
 struct SpringGeometry {
@@ -43,24 +45,30 @@ Eigen::Vector3d spring_force(double stiffness,
          * geometry.direction;
 }
 
+SpringSystem::Preconditioner preconditioner_of(const MassSpringParams& params) {
+  return params.preconditioner == MassSpringParams::Preconditioner::kSsor
+             ? SpringSystem::Preconditioner::kSsor
+             : SpringSystem::Preconditioner::kBlockJacobi;
+}
+
 }  // namespace
 
-StepStats MassSpringModel::step(double dt, const StepInput& input) {
+StepStats MassSpringModel::step_timed(double dt, const StepInput& input, PhaseTimes* times) {
   constraints_.bind(input.constraints);
   const StepStats stats = params_.integrator == MassSpringParams::Integrator::kSymplecticEuler
                               ? step_symplectic(dt, input)
-                              : step_implicit(dt, input);
+                              : step_implicit(dt, input, times);
   constraints_.unbind();
   return stats;
 }
 
 void MassSpringModel::compute_spring_forces() {
   const Eigen::Index num_springs = springs_.cols();
-#pragma omp parallel for schedule(static) if (num_springs > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (Eigen::Index e = 0; e < num_springs; ++e) {
     const int i = springs_(0, e);
     const int j = springs_(1, e);
-    spring_forces_.col(e) = spring_force(spring_stiffness_(e), rest_lengths_(e), params_.damping,
+    spring_forces_.col(e) = spring_force(spring_stiffness_(e), rest_lengths_(e), spring_damping_(e),
                                          spring_geometry(positions_.col(i), positions_.col(j)),
                                          velocities_.col(j) - velocities_.col(i));
   }
@@ -68,26 +76,47 @@ void MassSpringModel::compute_spring_forces() {
 
 void MassSpringModel::compute_spring_linearization(double dt) {
   const Eigen::Index num_springs = springs_.cols();
-#pragma omp parallel for schedule(static) if (num_springs > kParallelThreshold)
+  const double* x = positions_.data();
+  const double* v = velocities_.data();
+  const int* ends = springs_.data();
+  double* rhs = spring_rhs_.data();
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (Eigen::Index e = 0; e < num_springs; ++e) {
-    const int i = springs_(0, e);
-    const int j = springs_(1, e);
-    const SpringGeometry geometry = spring_geometry(positions_.col(i), positions_.col(j));
-    const Eigen::Vector3d& d = geometry.direction;
-    const double length = geometry.length;
-    const Eigen::Vector3d relative_velocity = velocities_.col(j) - velocities_.col(i);
+    const double* xi = x + 3 * ends[2 * e];
+    const double* xj = x + 3 * ends[2 * e + 1];
+    const double* vi = v + 3 * ends[2 * e];
+    const double* vj = v + 3 * ends[2 * e + 1];
+    const double delta[3] = {xj[0] - xi[0], xj[1] - xi[1], xj[2] - xi[2]};
+    const double length =
+        std::sqrt(delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]);
+    const double rest_length = rest_lengths_(e);
+    // A collapsed spring has no direction: no force is better than a NaN.
+    const double inverse_length = length > 0.0 ? 1.0 / length : 0.0;
+    const double d[3] = {delta[0] * inverse_length, delta[1] * inverse_length,
+                         delta[2] * inverse_length};
+    const double relative[3] = {vj[0] - vi[0], vj[1] - vi[1], vj[2] - vi[2]};
+    const double rate = d[0] * relative[0] + d[1] * relative[1] + d[2] * relative[2];
     const double k = spring_stiffness_(e);
-    const Eigen::Vector3d force =
-        spring_force(k, rest_lengths_(e), params_.damping, geometry, relative_velocity);
-    // K_e = -k S with S = d d^T + max(0, 1 - L/l) (I - d d^T): the transverse (geometric) term
-    // is dropped under compression, where it would make K indefinite (Baraff & Witkin 1998).
-    const Eigen::Matrix3d along = d * d.transpose();
-    const double transverse = length > 0.0 ? std::max(0.0, 1.0 - rest_lengths_(e) / length) : 0.0;
-    const Eigen::Matrix3d s = along + transverse * (Eigen::Matrix3d::Identity() - along);
-    // On vertex i: f_e + dt K_e (v_i - v_j) = f_e + dt k S (v_j - v_i).
-    spring_rhs_.col(e) = force + dt * k * (s * relative_velocity);
-    // The spring's share of A = M - dt D - dt^2 K, with D_e = -c d d^T (the dashpot).
-    Block(spring_blocks_.col(e).data()) = dt * params_.damping * along + dt * dt * k * s;
+    const double c = spring_damping_(e);
+    // K_e = -k S with S = d d^T + t (I - d d^T), t = max(0, 1 - L/l): the transverse
+    // (geometric) term is dropped under compression, where it would make K indefinite (Baraff &
+    // Witkin 1998).
+    const double transverse =
+        length > 0.0 ? std::max(0.0, 1.0 - rest_length * inverse_length) : 0.0;
+    // On vertex i: the force f_e = (k (l - L) + c rate) d, plus dt K_e (v_i - v_j) =
+    // dt k S (v_j - v_i) = dt k ((1 - t) rate d + t (v_j - v_i)).
+    const double along_force =
+        k * (length - rest_length) + c * rate + dt * k * (1.0 - transverse) * rate;
+    const double across_rate = dt * k * transverse;
+    for (int a = 0; a < 3; ++a) {
+      rhs[3 * e + a] = along_force * d[a] + across_rate * relative[a];
+    }
+    // The spring's share of A = M - dt D - dt^2 K, with D_e = -c d d^T (the dashpot):
+    // dt c d d^T + dt^2 k S = (dt c + dt^2 k (1 - t)) d d^T + dt^2 k t I, both coefficients
+    // non-negative (1 - t = min(1, L/l) > 0).
+    const double along = std::sqrt(dt * c + dt * dt * k * (1.0 - transverse));
+    system_.set_spring(e, Eigen::Vector3d(along * d[0], along * d[1], along * d[2]),
+                       dt * across_rate);
   }
 }
 
@@ -108,13 +137,13 @@ Eigen::Vector3d MassSpringModel::vertex_force(int vertex,
 
 StepStats MassSpringModel::step_symplectic(double dt, const StepInput& input) {
   compute_spring_forces();
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+  const std::vector<int>& incident = system_.incident_springs();
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int v = 0; v < num_vertices_; ++v) {
     const PositionConstraint* constraint = constraints_.of(v);
     Eigen::Vector3d force = vertex_force(v, input, constraint);
-    for (int k = incident_offsets_[static_cast<std::size_t>(v)];
-         k < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
-      const int e = incident_springs_[static_cast<std::size_t>(k)];
+    for (int k = system_.incident_begin(v); k < system_.incident_end(v); ++k) {
+      const int e = incident[static_cast<std::size_t>(k)];
       force +=
           springs_(0, e) == v ? spring_forces_.col(e) : Eigen::Vector3d(-spring_forces_.col(e));
     }
@@ -142,57 +171,84 @@ StepStats MassSpringModel::step_symplectic(double dt, const StepInput& input) {
 }
 
 void MassSpringModel::assemble_implicit_system(double dt, const StepInput& input) {
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelThreshold)
+  const std::vector<int>& incident = system_.incident_springs();
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int v = 0; v < num_vertices_; ++v) {
     const PositionConstraint* constraint = constraints_.of(v);
-    const double mass = masses_(v);
-    // M - dt D for the mass damping D = -c_m m I.
-    Eigen::Matrix3d block =
-        (mass * (1.0 + dt * params_.mass_damping)) * Eigen::Matrix3d::Identity();
     Eigen::Vector3d force = vertex_force(v, input, constraint);
+    Eigen::Matrix3d penalty = Eigen::Matrix3d::Zero();
     if (is_penalty(constraint)) {
       // A penalty spring to the target: K = -k_p H (H the held directions), so A gains
       // dt^2 k_p H and b gains dt K v.
       const Eigen::Matrix3d held = constraint->stiffness * constraint->held;
-      block += (dt * dt) * held;
+      penalty = (dt * dt) * held;
       force -= dt * held * velocities_.col(v);
     }
-    for (int k = incident_offsets_[static_cast<std::size_t>(v)];
-         k < incident_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
-      const int e = incident_springs_[static_cast<std::size_t>(k)];
+    for (int k = system_.incident_begin(v); k < system_.incident_end(v); ++k) {
+      const int e = incident[static_cast<std::size_t>(k)];
       force += springs_(0, e) == v ? spring_rhs_.col(e) : Eigen::Vector3d(-spring_rhs_.col(e));
-      block += ConstBlock(spring_blocks_.col(e).data());
     }
-    pattern_->set(pattern_->vertex_block(v), block);
     rhs_.segment<3>(3 * v) = dt * force;
+    // M - dt D for the mass damping D = -c_m m I, and the springs' blocks.
+    system_.set_vertex(v, masses_(v) * (1.0 + dt * params_.mass_damping), penalty);
+  }
+}
+
+SolveReport MassSpringModel::solve_cholmod() {
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
+  for (int v = 0; v < num_vertices_; ++v) {
+    pattern_->set(pattern_->vertex_block(v), system_.vertex_block(v));
   }
   const Eigen::Index num_springs = springs_.cols();
-#pragma omp parallel for schedule(static) if (num_springs > kParallelThreshold)
+#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (Eigen::Index e = 0; e < num_springs; ++e) {
     // The spring blocks are symmetric, so both off-diagonal positions get the same values.
-    const Eigen::Matrix3d coupling = -ConstBlock(spring_blocks_.col(e).data());
+    const Eigen::Matrix3d coupling = -system_.spring_block(e);
     pattern_->set(pattern_->edge_block(static_cast<int>(e)), coupling);
     pattern_->set(pattern_->edge_block_transposed(static_cast<int>(e)), coupling);
   }
-}
-
-void MassSpringModel::eliminate_exact_constraints(double dt) {
-  exact_velocity_changes(constraints_, positions_, velocities_, dt, known_changes_);
-  elimination_.eliminate(*pattern_, constraints_, known_changes_, rhs_, velocity_change_);
+  cholmod_rhs_ = rhs_;
+  elimination_.eliminate(*pattern_, constraints_, known_changes_, cholmod_rhs_, velocity_change_);
+  const SolveReport report = solver_->solve(*pattern_, cholmod_rhs_, velocity_change_, nullptr);
+  elimination_.to_world(velocity_change_);
+  return report;
 }
 
 void MassSpringModel::compute_implicit_reactions(double dt) {
-  implicit_reactions(elimination_, *pattern_, constraints_, positions_, velocity_change_, dt,
-                     constraint_forces_);
+  constraint_forces_.setZero();
+  for (const int v : constraints_.vertices()) {
+    const PositionConstraint* constraint = constraints_.of(v);
+    if (is_penalty(constraint)) {
+      constraint_forces_.col(v) = constraint->stiffness * constraint->gap(positions_.col(v));
+    } else if (is_exact(constraint)) {
+      // A sliding vertex's free rows were solved, not held: what is left of them is the
+      // solver's residual, not a force of the constraint.
+      const Eigen::Vector3d residual = system_.row(v, velocity_change_) - rhs_.segment<3>(3 * v);
+      constraint_forces_.col(v) = constraint->held * residual / dt;
+    }
+  }
 }
 
-StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
+StepStats MassSpringModel::step_implicit(double dt, const StepInput& input, PhaseTimes* times) {
+  PhaseClock clock(times);
+  system_.bind(constraints_);
   compute_spring_linearization(dt);
+  clock.lap(&PhaseTimes::springs);
   assemble_implicit_system(dt, input);
-  eliminate_exact_constraints(dt);
-  const SolveReport report =
-      solver_->solve(*pattern_, rhs_, velocity_change_, elimination_.in_frame(velocities_));
-  elimination_.to_world(velocity_change_);
+  system_.prepare();
+  exact_velocity_changes(constraints_, positions_, velocities_, dt, known_changes_);
+
+  clock.lap(&PhaseTimes::assembly);
+
+  SolveReport report;
+  if (pattern_ != nullptr) {
+    report = solve_cholmod();  // its matrix assembly is timed with the solve
+  } else {
+    report =
+        system_.solve(rhs_, known_changes_, velocity_change_, velocities_,
+                      preconditioner_of(params_), params_.cg_tolerance, params_.cg_max_iterations);
+  }
+  clock.lap(&PhaseTimes::solve);
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
   compute_implicit_reactions(dt);
@@ -203,6 +259,7 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input) {
   stats.factorizations = report.factorizations;
   stats.linear_solves = 1;
   stats.finite = stats.finite && report.succeeded;
+  clock.lap(&PhaseTimes::update);
   return stats;
 }
 

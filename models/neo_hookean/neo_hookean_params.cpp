@@ -74,6 +74,7 @@ ModelInfo neo_hookean_info() {
     return std::make_unique<neo_hookean::NeoHookeanModel>(mesh, material, parsed);
   };
   info.settling_damping = {{"rayleigh_mass", 2.0}};  // 1/s
+  info.mass_damping = "rayleigh_mass";
   return info;
 }
 

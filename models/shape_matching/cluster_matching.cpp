@@ -5,6 +5,7 @@
 
 #include "models/shape_matching/rotation_extraction.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 
@@ -29,6 +30,20 @@ constexpr double kMinVolumeRatio = 0.05;
 /// Below this many memberships a match runs on one thread: the parallel region costs more than
 /// it saves.
 constexpr int kParallelMemberships = 2048;
+
+/// Held particles whose linear rest moment about their centre (in the scaled basis, per unit
+/// of their weight) stays below this are at one point: 1e-6 of the cluster's RMS radius apart
+/// at most, far below any two mesh vertices, far above round-off.
+constexpr double kHeldPointCutoff = 1e-12;
+/// A direction of the held particles' rest moment below this fraction of its largest is not
+/// spanned for the rotation: the rotation about an axis is determined by the held particles
+/// only to round-off divided by this ratio (1e-10 rad), so a nearly collinear held set is
+/// treated as a line (a hinge the free members turn) rather than trusted to round-off.
+constexpr double kHeldLineCutoff = 1e-6;
+/// The most quaternion iterations for the rotation of held particles spanning a plane or more
+/// before the SVD takes over: from the last step's rotation a still or smoothly moving held set
+/// needs none or one or two.
+constexpr int kHeldRotationIterations = 4;
 
 /// The basis of a scaled rest offset q: q itself (D = 3), or q~ = [qx qy qz qx^2 qy^2 qz^2
 /// qx qy  qy qz  qz qx] (D = 9, the thesis's eq. 3-43 order).
@@ -137,6 +152,52 @@ Eigen::Matrix<double, D, D> pseudo_inverse(const Eigen::Matrix<double, D, D>& mo
   return eigen.eigenvectors() * inverse_values.asDiagonal() * eigen.eigenvectors().transpose();
 }
 
+/// The columns of the Cholesky factor of a symmetric positive semi-definite `matrix` with
+/// diagonal pivoting (at each step the largest remaining diagonal of the Schur complement),
+/// back in the original order, while the pivot stays above kPseudoInverseCutoff of the first:
+/// a basis of its range, as many columns as its rank. The pivots fall, so a pivot below the
+/// cutoff bounds what is left (Cholesky with complete pivoting reveals the rank).
+template <int F>
+Eigen::Matrix<double, F, Eigen::Dynamic, 0, F, F> rank_revealing_columns(
+    Eigen::Matrix<double, F, F> matrix) {
+  Eigen::Matrix<double, F, Eigen::Dynamic, 0, F, F> columns(F, 0);
+  int order[F];
+  for (int i = 0; i < F; ++i) {
+    order[i] = i;
+  }
+  double first = 0.0;
+  for (int k = 0; k < F; ++k) {
+    int pivot = k;
+    for (int i = k + 1; i < F; ++i) {
+      if (matrix(order[i], order[i]) > matrix(order[pivot], order[pivot])) {
+        pivot = i;
+      }
+    }
+    std::swap(order[k], order[pivot]);
+    const int p = order[k];
+    const double value = matrix(p, p);
+    if (k == 0) {
+      first = value;
+    }
+    if (!(value > kPseudoInverseCutoff * first)) {
+      break;
+    }
+    Eigen::Matrix<double, F, 1> column = Eigen::Matrix<double, F, 1>::Zero();
+    const double root = std::sqrt(value);
+    for (int i = k; i < F; ++i) {
+      column(order[i]) = matrix(order[i], p) / root;
+    }
+    for (int i = k + 1; i < F; ++i) {
+      for (int j = k + 1; j < F; ++j) {
+        matrix(order[i], order[j]) -= column(order[i]) * column(order[j]);
+      }
+    }
+    columns.conservativeResize(Eigen::NoChange, k + 1);
+    columns.col(k) = column;
+  }
+  return columns;
+}
+
 }  // namespace
 
 ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
@@ -163,6 +224,7 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
   }
   slot_start_.resize(member_particle_.size());
   slot_stride_.resize(member_particle_.size());
+  slot_cluster_.resize(member_particle_.size());
   std::vector<int> next(particle_offsets_.begin(), particle_offsets_.end() - 1);
   for (int k = 0; k < num_clusters(); ++k) {
     const int begin = cluster_begin(k);
@@ -171,6 +233,7 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
       const int slot = next[index(member_particle_[index(m)])]++;
       slot_start_[index(slot)] = 3 * static_cast<std::ptrdiff_t>(begin) + (m - begin);
       slot_stride_[index(slot)] = size;
+      slot_cluster_[index(slot)] = k;
     }
   }
   inverse_count_.resize(num_particles);
@@ -179,6 +242,12 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
     assert(count > 0 && "every particle must be in a cluster");
     inverse_count_(i) = 1.0 / count;
   }
+  held_flags_.assign(index(num_particles), 0);
+  held_particles_.reserve(index(num_particles));
+  held_slot_.assign(index(num_clusters()), -1);
+  changed_flags_.assign(index(num_clusters()), 0);
+  changed_clusters_.reserve(index(num_clusters()));
+  free_held_slots_.reserve(index(num_clusters()));
 }
 
 template <int D>
@@ -299,6 +368,11 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
         moments(px, py, pz, basis + g * n, basis + (g + 1) * n, basis + (g + 2) * n, n);
   }
 
+  if (const int slot = held_slot_[index(cluster)]; slot >= 0) {
+    return match_held<D>(cluster, held_pool_[index(slot)], positions, apq,
+                         Eigen::Vector3d(rx, ry, rz), Eigen::Vector3d(cx, cy, cz));
+  }
+
   // The rotation of the linear part (the basis's linear rows are q / scale: same R).
   const Eigen::Matrix3d apq_linear = apq.template leftCols<3>();
   Eigen::Quaterniond& rotation = rotations_[index(cluster)];
@@ -339,6 +413,360 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   return iterations;
 }
 
+template <int D>
+int ClusterMatcher::match_held(int cluster,
+                               HeldCluster& held,
+                               const Eigen::Matrix3Xd& positions,
+                               const Eigen::Matrix<double, 3, D>& apq,
+                               const Eigen::Vector3d& reference,
+                               const Eigen::Vector3d& centre) {
+  const int begin = cluster_begin(cluster);
+  const int n = cluster_end(cluster) - begin;
+  const int* particle = member_particle_.data() + begin;
+  const double* weight = member_weight_.data() + begin;
+  const double* basis = basis_.data() + static_cast<std::ptrdiff_t>(D) * begin;
+  double* px = work_.data() + 3 * static_cast<std::ptrdiff_t>(begin);
+  double* py = px + n;
+  double* pz = py + n;
+
+  // The held members' linear moments sum_H m/M (x - r) [1 q]^T, from the weighted offsets of
+  // the first pass: their centre of mass, and their Apq about it.
+  Eigen::Matrix<double, 3, 4> held_moment = Eigen::Matrix<double, 3, 4>::Zero();
+  for (const int j : held.members) {
+    const Eigen::Vector3d offset(px[j], py[j], pz[j]);
+    held_moment.col(0) += offset;
+    held_moment.col(1) += basis[j] * offset;
+    held_moment.col(2) += basis[n + j] * offset;
+    held_moment.col(3) += basis[2 * n + j] * offset;
+  }
+  const Eigen::Vector3d held_centre = reference + held_moment.col(0) / held.weight;
+
+  // The rotation: the held members' first, the free members' among what they leave open.
+  const Eigen::Vector3d mean_linear = held.mean.template head<3>();
+  const Eigen::Matrix3d held_apq = held_moment.template rightCols<3>()
+                                   - (held.weight * (held_centre - reference))
+                                         * mean_linear.transpose();
+  const Eigen::Matrix3d free_apq = apq.template leftCols<3>()
+                                   + (held_centre - centre) * mean_linear.transpose() - held_apq;
+  Eigen::Quaterniond& rotation = rotations_[index(cluster)];
+  int iterations = 0;
+  const Eigen::Vector3d line = held_apq * held.axis;  // rank 1: held_apq = line axis^T
+  if (held.rank >= 2) {
+    // Warm-started, the iteration stops at once for held particles that stand still or move
+    // rigidly and smoothly; a moment too anisotropic for it to converge in a few iterations
+    // gets the SVD (both give the polar rotation), as does a held set new to the cluster (the
+    // last rotation was not its).
+    if (params_.rotation == ShapeMatchingParams::Rotation::kSvd || held.refitted
+        || (iterations = extract_rotation(held_apq, rotation, kHeldRotationIterations))
+               == kHeldRotationIterations) {
+      rotation = Eigen::Quaterniond(polar_rotation_svd(held_apq));
+    }
+  } else if (held.rank == 1 && line.norm() > kHeldLineCutoff * held_apq.norm()
+             && line.allFinite()) {
+    // A hinge: R axis = the line's current direction u, and about u the angle that maximises
+    // tr(R^T A_F): for R = Rot(u, theta) R_a, tr(R^T A_F) = const + cos theta (tr M - u.M u)
+    // + sin theta u.(M_32 - M_23, M_13 - M_31, M_21 - M_12) with M = A_F R_a^T. R_a is the last
+    // rotation turned the shortest way onto the line, so an undetermined angle keeps it.
+    const Eigen::Vector3d u = line.normalized();
+    const Eigen::Quaterniond aligned =
+        (Eigen::Quaterniond::FromTwoVectors(rotation * held.axis, u) * rotation).normalized();
+    const Eigen::Matrix3d m = free_apq * aligned.toRotationMatrix().transpose();
+    const double cosine = m.trace() - u.dot(m * u);
+    const double sine =
+        u.dot(Eigen::Vector3d(m(2, 1) - m(1, 2), m(0, 2) - m(2, 0), m(1, 0) - m(0, 1)));
+    const double angle =
+        std::hypot(cosine, sine) > kHeldLineCutoff * kHeldLineCutoff * apq.norm()
+            ? std::atan2(sine, cosine)
+            : 0.0;
+    rotation = (Eigen::Quaterniond(Eigen::AngleAxisd(angle, u)) * aligned).normalized();
+  } else if (params_.rotation == ShapeMatchingParams::Rotation::kSvd) {
+    // One held point (or a line collapsed onto one): the free members turn about it.
+    rotation = Eigen::Quaterniond(polar_rotation_svd(free_apq));
+  } else {
+    iterations = extract_rotation(free_apq, rotation, params_.rotation_iterations);
+  }
+  const Eigen::Matrix3d r = rotation.toRotationMatrix();
+  const double scale = scale_[index(cluster)];
+
+  // The deformable fit, anchored: the rigid placement the held particles give (c_H, R) plus
+  // the free fit's deviation from it, projected to vanish at the held members:
+  // [sR 0] + columns 1..D of (T_0 - Rig) P, Rig = [c_H - r - sR q_H, sR 0].
+  const Eigen::Matrix<double, D, D> moment_inverse =
+      Eigen::Map<const Eigen::Matrix<double, D, D>>(moment_inverse_.data()
+                                                    + index(cluster) * D * D);
+  Eigen::Matrix<double, 3, D> rigid = Eigen::Matrix<double, 3, D>::Zero();
+  rigid.template leftCols<3>() = scale * r;
+  const Eigen::Matrix<double, 3, D> deviation = apq.lazyProduct(moment_inverse) - rigid;
+  const Eigen::Vector3d offset = centre - held_centre + scale * (r * mean_linear);
+  const Eigen::Matrix<double, 3, D> fit =
+      rigid + offset * held.keep.template block<1, D>(0, 0)
+      + deviation.lazyProduct(held.keep.template block<D, D>(1, 0));
+
+  // T as for a free cluster, about the held centre: g = c_H + T (b - b_H). Linear mode keeps
+  // the volume by scaling only the directions the held particles leave free (all three for
+  // one held point, the two across a held line, the one across a held plane; none when they
+  // span the space), so that the map still reproduces them.
+  const double beta = params_.beta;
+  Eigen::Matrix<double, 3, D> t;
+  if constexpr (D == 3) {
+    const Eigen::Matrix3d a = fit / scale;
+    const double det = a.determinant();
+    if (beta > 0.0 && det > kMinVolumeRatio) {
+      const double free_scale = held.rank == 0   ? 1.0 / std::cbrt(det)
+                                : held.rank == 1 ? 1.0 / std::sqrt(det)
+                                : held.rank == 2 ? 1.0 / det
+                                                 : 1.0;
+      const Eigen::Matrix3d volume =
+          held.span + free_scale * (Eigen::Matrix3d::Identity() - held.span);
+      t = scale * (beta * a * volume + (1.0 - beta) * r);
+    } else {
+      t = scale * r;
+    }
+  } else {
+    t = beta * fit;
+    t.template leftCols<3>() += ((1.0 - beta) * scale) * r;
+  }
+  const Eigen::Vector3d goal_centre = held_centre - t * held.mean.template head<D>();
+  goal_row<D>(t.row(0), goal_centre.x(), basis, n, px);
+  goal_row<D>(t.row(1), goal_centre.y(), basis, n, py);
+  goal_row<D>(t.row(2), goal_centre.z(), basis, n, pz);
+
+  // The pulls' net force and first moment (held_pull()), in twelve scalar sums: as a 3 x 3
+  // outer product per member GCC keeps the sums in memory.
+  const double* x = positions.data();
+  const double* qx = basis;
+  const double* qy = basis + n;
+  const double* qz = basis + 2 * static_cast<std::ptrdiff_t>(n);
+  const double mx = mean_linear.x();
+  const double my = mean_linear.y();
+  const double mz = mean_linear.z();
+  double f[3] = {0.0, 0.0, 0.0};
+  double moment[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+  for (int j = 0; j < n; ++j) {
+    const double* xi = x + 3 * static_cast<std::ptrdiff_t>(particle[j]);
+    const double share = weight[j] * inverse_count_.data()[particle[j]];
+    const double dx = share * (px[j] - xi[0]);
+    const double dy = share * (py[j] - xi[1]);
+    const double dz = share * (pz[j] - xi[2]);
+    const double ux = qx[j] - mx;
+    const double uy = qy[j] - my;
+    const double uz = qz[j] - mz;
+    f[0] += dx;
+    f[1] += dy;
+    f[2] += dz;
+    moment[0] += dx * ux;
+    moment[1] += dx * uy;
+    moment[2] += dx * uz;
+    moment[3] += dy * ux;
+    moment[4] += dy * uy;
+    moment[5] += dy * uz;
+    moment[6] += dz * ux;
+    moment[7] += dz * uy;
+    moment[8] += dz * uz;
+  }
+  held.refitted = false;
+  held.pull = Eigen::Vector3d(f[0], f[1], f[2]) / held.weight;
+  held.pull_moment =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(moment) * held.spread_inverse;
+  return iterations;
+}
+
+template <int D>
+void ClusterMatcher::refit_held_with(int cluster, HeldCluster& held) {
+  constexpr int F = D + 1;
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxFit, kMaxFit>;
+  using Range = Eigen::Matrix<double, F, Eigen::Dynamic, 0, F, kMaxFit>;
+  const int begin = cluster_begin(cluster);
+  const int n = cluster_end(cluster) - begin;
+  const int* particle = member_particle_.data() + begin;
+  const double* weight = member_weight_.data() + begin;
+  const double* basis = basis_.data() + static_cast<std::ptrdiff_t>(D) * begin;
+  const auto basis_of = [&](int j) {
+    Eigen::Matrix<double, D, 1> b;
+    for (int d = 0; d < D; ++d) {
+      b(d) = basis[d * n + j];
+    }
+    return b;
+  };
+
+  held.refitted = true;
+  held.members.clear();
+  held.weight = 0.0;
+  Eigen::Matrix<double, D, 1> mean = Eigen::Matrix<double, D, 1>::Zero();
+  for (int j = 0; j < n; ++j) {
+    if (held_flags_[index(particle[j])] != 0) {
+      held.members.push_back(j);  // within the capacity reserved when the entry was made
+      held.weight += weight[j];
+      mean += weight[j] * basis_of(j);
+    }
+  }
+  assert(!held.members.empty());
+  mean /= held.weight;
+  held.mean.setZero();
+  held.mean.template head<D>() = mean;
+
+  // Their linear rest moment about their centre: its rank decides the rotation, its
+  // pseudo-inverse shares the pulls.
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  for (const int j : held.members) {
+    const Eigen::Vector3d q = basis_of(j).template head<3>() - mean.template head<3>();
+    spread += weight[j] * q * q.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> spread_eigen;
+  spread_eigen.computeDirect(spread);  // closed form: ample for ranks at 1e-6 of the largest
+  const Eigen::Vector3d& spread_values = spread_eigen.eigenvalues();  // increasing
+  held.rank = 0;
+  held.spread_inverse.setZero();
+  held.span.setZero();
+  held.axis = spread_eigen.eigenvectors().col(2);
+  if (spread_values(2) > kHeldPointCutoff * held.weight) {
+    for (int e = 2; e >= 0 && spread_values(e) > kHeldLineCutoff * spread_values(2); --e) {
+      ++held.rank;
+      const Eigen::Vector3d v = spread_eigen.eigenvectors().col(e);
+      held.spread_inverse += v * v.transpose() / spread_values(e);
+      held.span += v * v.transpose();
+    }
+  }
+
+  // A basis U of the span of the held members' bases [1 b]: the columns of the Cholesky
+  // factor of G_H = sum_H m/M [1 b][1 b]^T with diagonal pivoting (rank_revealing_columns()),
+  // up to the first pivot below the cutoff of the largest. Smaller ones are dependencies
+  // among the held members (more of them than basis functions, or on a plane for the
+  // quadratic terms), not constraints.
+  Eigen::Matrix<double, F, F> gram = Eigen::Matrix<double, F, F>::Zero();
+  for (const int j : held.members) {
+    Eigen::Matrix<double, F, 1> b;
+    b(0) = 1.0;
+    b.template tail<D>() = basis_of(j);
+    gram.noalias() += weight[j] * b * b.transpose();
+  }
+  const Range range = rank_revealing_columns<F>(gram);
+
+  // With G^+ = diag(1, Aqq^+) (the free fit's metric) and M = U^T G^+ U (positive definite: U
+  // spans some of the members' bases, where G^+ is), Z = U M^-1 U^T G^+ projects onto
+  // the held members' span, orthogonally in that metric, and P = I - Z takes a fit's deviation
+  // E to the one nearest it (in the members' weighted goal displacements) that vanishes at
+  // every held member: E P, never larger than E, however the held members lie.
+  const Eigen::Matrix<double, D, D> moment_inverse =
+      Eigen::Map<const Eigen::Matrix<double, D, D>>(moment_inverse_.data()
+                                                    + index(cluster) * D * D);
+  // lazyProduct throughout: coefficient loops; the default product sends these small
+  // dynamic-size blocks to the general matrix product.
+  Range metric_range(F, range.cols());  // G^+ U
+  metric_range.row(0) = range.row(0);
+  metric_range.bottomRows(D) = moment_inverse.lazyProduct(range.bottomRows(D));
+  const Small metric = range.transpose().lazyProduct(metric_range);
+  const Small solve = metric.ldlt().solve(metric_range.transpose());  // M^-1 U^T G^+
+  held.keep.template topLeftCorner<F, D>() =
+      -range.lazyProduct(solve.rightCols(D));  // columns 1..D of I - U M^-1 U^T G^+
+  held.keep.template block<D, D>(1, 0).diagonal().array() += 1.0;
+}
+
+void ClusterMatcher::hold(std::span<const int> particles) {
+  const int changed = hold_changes(particles);
+  for (int c = 0; c < changed; ++c) {
+    refit_held(c);
+  }
+}
+
+int ClusterMatcher::hold_changes(std::span<const int> particles) {
+  // Flags: 1 held by the last call, 2 held by this one; a particle with only one of them
+  // changed, and so did each of its clusters' held sets.
+  for (const int i : particles) {
+    held_flags_[index(i)] |= 2;
+  }
+  bool any_changed = false;
+  const auto mark = [&](int i) {
+    any_changed = true;
+    for (int s = particle_offsets_[index(i)]; s < particle_offsets_[index(i) + 1]; ++s) {
+      changed_flags_[index(slot_cluster_[index(s)])] = 1;
+    }
+  };
+  for (const int i : held_particles_) {
+    if (held_flags_[index(i)] == 1) {
+      mark(i);  // released
+    }
+  }
+  for (const int i : particles) {
+    if (held_flags_[index(i)] == 2) {
+      mark(i);  // newly held
+    }
+  }
+  for (const int i : held_particles_) {
+    held_flags_[index(i)] &= 2;
+  }
+  for (const int i : particles) {
+    held_flags_[index(i)] = 1;
+  }
+  held_particles_.assign(particles.begin(), particles.end());  // within the reserved capacity
+
+  changed_clusters_.clear();
+  if (!any_changed) {
+    return 0;
+  }
+  // In cluster order, so that the pool entries are handed out the same way on every run.
+  for (int k = 0; k < num_clusters(); ++k) {
+    if (changed_flags_[index(k)] == 0) {
+      continue;
+    }
+    changed_flags_[index(k)] = 0;
+    bool holds = false;
+    for (int m = cluster_begin(k); m < cluster_end(k) && !holds; ++m) {
+      holds = held_flags_[index(member_particle_[index(m)])] != 0;
+    }
+    int& slot = held_slot_[index(k)];
+    if (!holds) {
+      if (slot >= 0) {
+        free_held_slots_.push_back(slot);
+        slot = -1;
+      }
+      continue;
+    }
+    if (slot < 0) {
+      if (free_held_slots_.empty()) {
+        slot = static_cast<int>(held_pool_.size());
+        held_pool_.emplace_back();
+      } else {
+        slot = free_held_slots_.back();
+        free_held_slots_.pop_back();
+      }
+      held_pool_[index(slot)].members.reserve(index(cluster_end(k) - cluster_begin(k)));
+    }
+    changed_clusters_.push_back(k);
+  }
+  return static_cast<int>(changed_clusters_.size());
+}
+
+void ClusterMatcher::refit_held(int index_in_changed) {
+  const int cluster = changed_clusters_[index(index_in_changed)];
+  HeldCluster& held = held_pool_[index(held_slot_[index(cluster)])];
+  if (dim_ == 3) {
+    refit_held_with<3>(cluster, held);
+  } else {
+    refit_held_with<9>(cluster, held);
+  }
+}
+
+Eigen::Vector3d ClusterMatcher::held_pull(int particle) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int s = particle_offsets_[index(particle)]; s < particle_offsets_[index(particle) + 1];
+       ++s) {
+    const int cluster = slot_cluster_[index(s)];
+    const int slot = held_slot_[index(cluster)];
+    if (slot < 0) {
+      continue;  // not held: no cluster of it has held data
+    }
+    const HeldCluster& held = held_pool_[index(slot)];
+    const int begin = cluster_begin(cluster);
+    const int size = cluster_end(cluster) - begin;
+    const std::ptrdiff_t j = slot_start_[index(s)] - 3 * static_cast<std::ptrdiff_t>(begin);
+    const double* b = basis_.data() + static_cast<std::ptrdiff_t>(dim_) * begin + j;
+    const Eigen::Vector3d q(b[0], b[size], b[2 * static_cast<std::ptrdiff_t>(size)]);
+    sum += held.pull + held.pull_moment * (q - held.mean.head<3>());
+  }
+  return sum;
+}
+
 int ClusterMatcher::cluster_of_membership(int membership) const {
   return static_cast<int>(
              std::upper_bound(cluster_offsets_.begin(), cluster_offsets_.end(), membership)
@@ -377,6 +805,31 @@ int ClusterMatcher::match(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd& g
 void ClusterMatcher::reset() {
   std::fill(rotations_.begin(), rotations_.end(), Eigen::Quaterniond::Identity());
   reference_ = rest_centres_;
+  for (const int i : held_particles_) {
+    held_flags_[index(i)] = 0;
+  }
+  held_particles_.clear();
+  changed_clusters_.clear();
+  for (int& slot : held_slot_) {
+    if (slot >= 0) {
+      free_held_slots_.push_back(slot);
+      slot = -1;
+    }
+  }
+  // The same order of free entries as a fresh matcher would hand out is not needed: an entry's
+  // data is all recomputed when it is handed out.
+}
+
+std::size_t ClusterMatcher::held_bytes() const {
+  std::size_t bytes = held_flags_.capacity() + changed_flags_.capacity()
+                      + (held_particles_.capacity() + held_slot_.capacity()
+                         + free_held_slots_.capacity() + changed_clusters_.capacity())
+                            * sizeof(int)
+                      + held_pool_.capacity() * sizeof(HeldCluster);
+  for (const HeldCluster& held : held_pool_) {
+    bytes += held.members.capacity() * sizeof(int);
+  }
+  return bytes;
 }
 
 std::size_t ClusterMatcher::memory_bytes() const {
@@ -387,8 +840,8 @@ std::size_t ClusterMatcher::memory_bytes() const {
          + (rest_centres_.size() + reference_.size()) * sizeof(double)
          + rotations_.size() * sizeof(Eigen::Quaterniond) + particle_offsets_.size() * sizeof(int)
          + slot_start_.size() * sizeof(std::ptrdiff_t)
-         + slot_stride_.size() * sizeof(std::ptrdiff_t)
-         + static_cast<std::size_t>(inverse_count_.size()) * sizeof(double);
+         + slot_stride_.size() * sizeof(std::ptrdiff_t) + slot_cluster_.size() * sizeof(int)
+         + static_cast<std::size_t>(inverse_count_.size()) * sizeof(double) + held_bytes();
 }
 
 }  // namespace softbench::shape_matching

@@ -7,7 +7,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cstddef>
+#include <span>
 #include <vector>
 
 namespace softbench::shape_matching {
@@ -19,6 +21,33 @@ namespace softbench::shape_matching {
 /// Construction precomputes everything that depends on the rest shape: per membership the
 /// particle index, m_i / M and the scaled, centred basis q (3) or q~ (9); per cluster Aqq^-1
 /// (pseudo-inverse) and the scale. match_cluster() allocates nothing.
+///
+/// Held particles (hold()) are kinematic: infinite mass in every cluster they belong to, in the
+/// limit rather than with a large weight. Per cluster with held members H:
+/// - the rigid placement is theirs: the centre is their centre of mass c_H, and the rotation
+///   maximises tr(R^T A_H) first and tr(R^T A_F) among those maximisers (A_H, A_F the held and
+///   free members' moments about c_H): with one held particle (or several at one point) it is
+///   the free members' rotation about it; with held particles on a line, a hinge: R maps the
+///   rest line onto the current one and the free members choose the angle about it, in closed
+///   form; otherwise the held particles' own rotation (the warm-started iteration, or the SVD
+///   where it would converge slowly on such an anisotropic moment);
+/// - the deformable fit (A, A~) is that placement plus the free fit's deviation from it,
+///   projected to vanish at the held members: with T_0 the ordinary fit ([c - r, Apq Aqq^-1]
+///   on [1 b], r the reference point) and Rig the placement, T = Rig + (T_0 - Rig) P, where P
+///   ((D + 1) x (D + 1)) depends on the rest shape and H only: I minus the projector onto the
+///   held members' span orthogonal in the ordinary fit's metric (Aqq^-1), so the deviation's
+///   weighted size never exceeds the free fit's. (Requiring the fit to pass through the held
+///   particles' positions instead, the infinite-mass limit of the ordinary fit, is the same
+///   when they moved rigidly, but held particles moved apart from one another, as a contact
+///   spreading a push over a triangle's corners does, then demand a cluster-wide stretch that
+///   throws the far goals off by orders of magnitude.) The held members' span is pseudo-
+///   inverted relative to its own largest eigenvalue, so a few held particles never fall under
+///   Aqq's cutoff and no huge weight makes the 9 x 9 moment ill-conditioned;
+/// - the goals are g_i = c_H + T (b_i - b_H), b_H the held members' mean basis.
+/// So a held particle's goal in each of its clusters is its place in the held set's rigid
+/// placement: the particle itself whenever the held set moved rigidly from rest (one held
+/// particle always), to round-off. Only clusters with held members carry the extra data, and
+/// hold() updates only the clusters whose held set changed since its last call.
 ///
 /// Layout: memberships are numbered cluster by cluster (cluster k owns [offset_k, offset_k +
 /// n_k)); each cluster's basis is a D x n_k row-major block (D = 3 or 9) and its work space a
@@ -68,19 +97,78 @@ class ClusterMatcher {
   /// receives every particle's goal. Returns the largest rotation iterations of any cluster.
   int match(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd& goals);
 
+  /// Makes exactly `particles` (indices in range, each once) the held ones from the next match
+  /// on: hold_changes() then refit_held() for each changed cluster, on this thread.
+  void hold(std::span<const int> particles);
+  /// The first half of hold(): compares `particles` with the held set of the last call, and
+  /// lists the clusters whose held set changed (a cluster no longer holding any particle drops
+  /// its data here). Returns how many: refit_held(0 .. count - 1) must run before the next
+  /// match. Serial; allocates only when a cluster gets held members for the first time.
+  int hold_changes(std::span<const int> particles);
+  /// Recomputes the held data of the index-th changed cluster of the last hold_changes(). The
+  /// changed clusters are independent: any thread may refit any of them.
+  void refit_held(int index);
+  /// How many clusters the last hold_changes() listed for refitting.
+  int num_refits() const { return static_cast<int>(changed_clusters_.size()); }
+  bool is_held(int particle) const { return held_flags_[index(particle)] != 0; }
+  /// Clusters that have held members.
+  int num_held_clusters() const { return num_clusters() - static_cast<int>(std::count(
+                                             held_slot_.begin(), held_slot_.end(), -1)); }
+  /// For a held particle after a match: the pull (m, like g - x) its clusters' free members
+  /// take from it, per unit of its mass and alpha / dt^2. A cluster with held members moves
+  /// its goals toward the held ones: its members' pulls (particle i: m_i / n_i (g_i - x_i), n_i
+  /// its cluster count) no longer sum to zero, and the held members must supply the balance. It
+  /// is shared as the multipliers of the affine fit would: the shares reproduce the pulls' net
+  /// force and first moment (so two held ends of a stretched cluster feel its tension), each
+  /// held particle taking m_h (a + B (q_h - q_H)).
+  Eigen::Vector3d held_pull(int particle) const;
+
   /// The rotation cluster k found in its last match (I before any).
   Eigen::Matrix3d rotation(int cluster) const {
     return rotations_[index(cluster)].toRotationMatrix();
   }
   /// Forgets the state carried between matches: every rotation back to I, every reference
-  /// point back to the rest centre of mass (so a run after reset() repeats bit for bit).
+  /// point back to the rest centre of mass, and the held set (none held; the data of held
+  /// clusters is kept for reuse), so a run after reset() repeats bit for bit.
   void reset();
   std::size_t memory_bytes() const;
 
  private:
+  /// The largest basis with its constant: 1 + 9.
+  static constexpr int kMaxFit = 10;
+  /// What a cluster with held members keeps (see the class comment). Sized for the quadratic
+  /// basis; linear mode uses the top-left blocks.
+  struct HeldCluster {
+    std::vector<int> members;  ///< positions in the cluster of its held members, increasing
+    double weight = 0.0;       ///< sum of their m / M
+    /// 0: all at one point; 1: on a line; 2: on a plane; 3: spanning space (the rank of their
+    /// linear rest moment, with a margin: see kHeldLineCutoff).
+    int rank = 0;
+    Eigen::Matrix<double, 9, 1> mean = Eigen::Matrix<double, 9, 1>::Zero();  ///< b_H
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  ///< rank 1: the line's rest direction
+    Eigen::Matrix3d spread_inverse = Eigen::Matrix3d::Zero();  ///< (sum m/M (q-q_H)(.)^T)^+
+    Eigen::Matrix3d span = Eigen::Matrix3d::Zero();  ///< projector onto what they span
+    /// Columns 1..D of P ((D + 1) x D; see the class comment).
+    Eigen::Matrix<double, kMaxFit, 9> keep = Eigen::Matrix<double, kMaxFit, 9>::Zero();
+    bool refitted = false;  ///< refitted since its last match
+    // Written by each match: the pull shares (held_pull()).
+    Eigen::Vector3d pull = Eigen::Vector3d::Zero();             ///< a
+    Eigen::Matrix3d pull_moment = Eigen::Matrix3d::Zero();      ///< B
+  };
+
   static std::size_t index(int i) { return static_cast<std::size_t>(i); }
   template <int D>
   int match_cluster_with(int cluster, const Eigen::Matrix3Xd& positions);
+  template <int D>
+  int match_held(int cluster,
+                 HeldCluster& held,
+                 const Eigen::Matrix3Xd& positions,
+                 const Eigen::Matrix<double, 3, D>& apq,
+                 const Eigen::Vector3d& reference,
+                 const Eigen::Vector3d& centre);
+  template <int D>
+  void refit_held_with(int cluster, HeldCluster& held);
+  std::size_t held_bytes() const;
   template <int D>
   void precompute(const Eigen::Matrix3Xd& rest,
                   const Eigen::VectorXd& masses,
@@ -107,7 +195,17 @@ class ClusterMatcher {
   std::vector<int> particle_offsets_;        ///< #P + 1
   std::vector<std::ptrdiff_t> slot_start_;   ///< index of the goal's x in work_
   std::vector<std::ptrdiff_t> slot_stride_;  ///< distance to its y (and from y to z)
+  std::vector<int> slot_cluster_;            ///< the membership's cluster
   Eigen::VectorXd inverse_count_;            ///< 1 / number of clusters holding the particle
+
+  // Held particles.
+  std::vector<unsigned char> held_flags_;  ///< per particle: 1 if held (the last hold())
+  std::vector<int> held_particles_;        ///< the particles of the last hold()
+  std::vector<int> held_slot_;             ///< per cluster: its HeldCluster in held_pool_, or -1
+  std::vector<HeldCluster> held_pool_;     ///< grows to the most clusters ever held at once
+  std::vector<int> free_held_slots_;       ///< pool entries no cluster uses
+  std::vector<unsigned char> changed_flags_;  ///< per cluster, during hold_changes()
+  std::vector<int> changed_clusters_;         ///< the last hold_changes()'s, to refit
 };
 
 }  // namespace softbench::shape_matching

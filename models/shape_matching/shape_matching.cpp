@@ -47,6 +47,7 @@ ShapeMatchingModel::ShapeMatchingModel(const TetMesh& mesh,
       constraints_(num_vertices_) {
   const double diagonal = bounding_box_diagonal(rest_positions_);
   diagonal_ = diagonal > 0.0 ? diagonal : 1.0;
+  kinematic_.reserve(static_cast<std::size_t>(num_vertices_));
 }
 
 nlohmann::json ShapeMatchingModel::parameters() const {
@@ -82,7 +83,7 @@ std::size_t ShapeMatchingModel::memory_bytes() const {
          + bytes_of(velocities_) + bytes_of(constraint_forces_) + bytes_of(predicted_)
          + bytes_of(squared_residuals_)
          + (clusters_.seeds.size() + clusters_.offsets.size() + clusters_.members.size()
-            + cluster_iterations_.size())
+            + cluster_iterations_.size() + kinematic_.capacity())
                * sizeof(int)
          + constraints_.memory_bytes() + matcher_.memory_bytes();
 }
@@ -96,8 +97,9 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
   }
   if (is_exact(constraint)) {
     // On the target (a sliding particle: where its free flight meets the plane) before the
-    // matching, so the particle drags its clusters along; the reaction is the momentum change
-    // the other forces did not make.
+    // matching, so that the fit sees it there: a fully held particle anchors its clusters (the
+    // matcher holds it), a sliding one drags them by its share of their mass. The reaction
+    // starts as the momentum change the other forces did not make.
     const Eigen::Vector3d placed = constraint->place(
         positions_.col(vertex) + dt * (velocities_.col(vertex) + (dt / mass) * force));
     const Eigen::Vector3d velocity = (placed - positions_.col(vertex)) / dt;
@@ -126,14 +128,19 @@ void ShapeMatchingModel::pull(int vertex, double dt) {
   if (is_exact(constraint)) {
     // Held on its target, it is denied the pull toward its goal that its clusters' fit gave
     // it (a sliding particle only the pull's normal part: it follows the rest in its plane);
-    // holding it takes the opposite of the denied pull's force, m alpha H (p - g) / dt^2.
+    // holding it takes the opposite of the denied pull's force, m alpha H (p - g) / dt^2. A
+    // kinematic particle's goals are on it (to round-off, when its held set can follow it), and
+    // it also supplies what the pulls toward those anchored goals give its clusters' members.
     const Eigen::Matrix3d held = constraint->held;
     const Eigen::Vector3d free_pull = towards_goal - held * towards_goal;
     squared_residuals_(vertex) = free_pull.squaredNorm();
     velocities_.col(vertex) += (params_.alpha / dt) * free_pull;
     positions_.col(vertex) = predicted_.col(vertex) + params_.alpha * free_pull;
-    constraint_forces_.col(vertex) -=
-        masses_(vertex) * params_.alpha * (held * towards_goal) / (dt * dt);
+    Eigen::Vector3d denied = held * towards_goal;
+    if (matcher_.is_held(vertex)) {
+      denied -= matcher_.held_pull(vertex);
+    }
+    constraint_forces_.col(vertex) -= masses_(vertex) * params_.alpha * denied / (dt * dt);
     return;
   }
   squared_residuals_(vertex) = towards_goal.squaredNorm();
@@ -147,6 +154,22 @@ void ShapeMatchingModel::pull(int vertex, double dt) {
 
 StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   constraints_.bind(input.constraints);
+  // Kinematic in the fits: the particles held fully. A sliding hold (a frictionless contact, a
+  // support, a symmetry plane) holds one or two directions only; as an infinite mass in the
+  // fit it would pin its clusters in the free directions too (friction, or glue, by another
+  // name), and an infinite mass along the held directions alone would couple the fit's three
+  // coordinates into one constrained system per cluster and make the rotation fit a
+  // constrained one. So a sliding particle is placed on its plane (line) before the match and
+  // takes part with its own mass, as position-based engines treat contacts: the hold denies
+  // it the normal part of its pull (its force), and its clusters follow it by its share.
+  kinematic_.clear();
+  for (const int vertex : constraints_.exact_vertices()) {
+    if (!constraints_.of(vertex)->slides()) {
+      kinematic_.push_back(vertex);  // within the reserved capacity
+    }
+  }
+  // Only the clusters whose held set changed since the last step are refitted.
+  const int refits = matcher_.hold_changes(kinematic_);
   const int num_clusters = matcher_.num_clusters();
   [[maybe_unused]] const bool parallel = matcher_.num_memberships() >= kParallelMemberships;
   // Dynamic schedules: cluster sizes differ (73 to 142 particles on the liver), and on a shared
@@ -155,9 +178,13 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   // run in a fixed order: the results are bit-identical on any number of threads.
 #pragma omp parallel if (parallel)
   {
-#pragma omp for schedule(dynamic, kParticleChunk)
+#pragma omp for schedule(dynamic, kParticleChunk) nowait
     for (int v = 0; v < num_vertices_; ++v) {
       predict(v, dt, input);
+    }
+#pragma omp for schedule(dynamic, 1)
+    for (int c = 0; c < refits; ++c) {
+      matcher_.refit_held(c);
     }
 #pragma omp for schedule(dynamic, 1)
     for (int k = 0; k < num_clusters; ++k) {

@@ -2,11 +2,13 @@
 #pragma once
 
 #include "geometry/tet_mesh.h"
+#include "models/calibration_record.h"
 #include "models/material.h"
 #include "models/model_registry.h"
 #include "models/soft_body.h"
 
 #include <memory>
+#include <optional>
 
 namespace softbench {
 
@@ -40,25 +42,47 @@ namespace softbench {
 //   beyond that follows R alone until it has recovered (det A -> 0 would blow A up).
 //
 // Constraints: an exactly constrained particle is put on its target before the matching (with
-// v = (target - x) / dt), so it drags its clusters along, and is not pulled toward its goal. A
-// penalty constraint is a spring k (target - x) integrated implicitly on its own particle, so it
-// is stable at any dt too.
+// v = (target - x) / dt), and is not pulled toward its goal. Held fully (pinned, grasped, a
+// corner of a triangle the instrument pushes), it is kinematic in every cluster it belongs to:
+// infinite mass in the fit, in the limit (cluster_matching.h). The held particles of a cluster
+// give it its centre and, as far as they span it, its rotation; the fitted deformation is the
+// rest of the cluster's, relative to that placement and vanishing at them. So they anchor their
+// clusters: a cluster's goal for a held particle is the particle itself whenever the held set
+// moved rigidly (one held particle always). Held along a normal only (a frictionless contact or
+// support, slid onto its plane), it keeps its mass in the fit: infinite mass would pin its
+// clusters along the plane too, and the hold denies it only the normal part of its pull. The
+// reaction on a fully held particle includes its share of what its clusters' pulls toward their
+// anchored goals give their members, split among a cluster's held particles so that the shares
+// match the pulls' net force and first moment. Only clusters with held members carry the
+// extra data, updated only where the held set changed since the last step. A penalty
+// constraint is a spring k (target - x) integrated implicitly on its own particle, so it is
+// stable at any dt too.
 //
 // Behaviour worth knowing: there is no damping parameter and no plasticity; the pull itself
 // dissipates (with one cluster a deformation decays by sqrt(1 - alpha (1 - beta)) per step:
 // 0.857 with the thesis's values). The stiffness is per step, not physical: halving dt doubles
-// the pulls per second. Pinned particles hold their clusters only through their share of the
-// clusters' mass, so a body hanging from a few pins is very soft: the liver of
-// scenes/liver_gravity.json (7% of its vertices fixed) stretches to 5x its volume within 0.5 s
-// under gravity with the thesis's values at dt = 1/60 s, and once gravity is off swings back
-// to within 2% of its rest shape over about 20 s.
+// the pulls per second. Pinned particles anchor only the clusters they belong to; the others
+// hang from those through the particles they share, whose goals are averages: one pull a step
+// per shared particle carries the weight of everything beyond it, so a body hanging from a few
+// pins is still soft. A bar hanging from its pinned end in one cluster keeps its length within
+// 4%; the liver of scenes/liver_gravity.json (7% of its vertices fixed, 15 of its 50 clusters
+// holding some of them), with the thesis's values at dt = 1/60 s, gains up to 144% of its
+// volume as it drops in the first 0.3 s under gravity and swings between about +20% and +100%
+// after (up to +576% when the pins held their clusters only through their share of the mass);
+// once gravity is off it is back within 1% of its rest shape 3 s later (before: still 2% off
+// 13 s later). The softness is the clusters' coupling, not their fits: with rigid goals (beta
+// 0) the liver still gains 57%.
 //
 // StepStats: `iterations` is the largest number of rotation iterations a cluster took
-// (quaternion extraction; 0 for the SVD); `residual` is the RMS of |g_i - x*_i| over the particles
-// not constrained exactly, divided by the rest bounding-box diagonal (how far the body was from
-// its goals before the pull). elastic_energy() is NaN: shape matching has no energy.
+// (quaternion extraction; 0 for the SVD; a cluster whose held particles span a plane takes up
+// to 4, whatever rotation_iterations says, before the SVD takes over); `residual` is the RMS of
+// |g_i - x*_i| over the particles not constrained exactly, divided by the rest bounding-box
+// diagonal (how far the body was from its goals before the pull). elastic_energy() is NaN:
+// shape matching has no energy.
 // constraint_forces() is m (v' - v) / dt - f_ext at exactly constrained particles (f_ext:
-// gravity and external forces) and the spring force at penalty-constrained ones.
+// gravity and external forces) minus the internal forces on them (the pull the hold denies them
+// and, held fully, their share of their clusters' pulls), and the spring force at
+// penalty-constrained ones.
 
 struct ShapeMatchingParams {
   enum class Type { kLinear, kQuadratic };
@@ -94,6 +118,8 @@ struct ShapeMatchingParams {
   /// The most quaternion iterations per cluster and step (each stops early once the correction
   /// is below 1e-12 rad). More: closer to the exact rotation, dearer.
   int rotation_iterations = 2;
+  /// Set by `softbench calibrate` (alpha and beta fitted to a reference); null otherwise.
+  std::optional<CalibrationRecord> calibrated;
 };
 
 /// The registry entry ("shape_matching") with the parameter table.

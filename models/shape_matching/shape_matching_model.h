@@ -23,7 +23,8 @@ const ParamTable<ShapeMatchingParams>& param_table();
 void validate(const ShapeMatchingParams& params, const std::string& where);
 
 /// The model of shape_matching.h. Construction builds the clusters and the matcher's rest-shape
-/// data; step() allocates nothing.
+/// data; step() allocates nothing, but for the held data of a cluster that has held members for
+/// the first time (kept for reuse after).
 class ShapeMatchingModel final : public SoftBody {
  public:
   ShapeMatchingModel(const TetMesh& mesh,
@@ -76,6 +77,7 @@ class ShapeMatchingModel final : public SoftBody {
   Eigen::VectorXd squared_residuals_;    ///< |g - x*|^2 per particle (0 if exactly held)
   std::vector<int> cluster_iterations_;  ///< rotation iterations per cluster
   VertexConstraints constraints_;        ///< the step's constraint per vertex
+  std::vector<int> kinematic_;           ///< the step's fully held vertices (the matcher's held)
 };
 
 }  // namespace softbench::shape_matching

@@ -43,7 +43,10 @@ ParamTable<Params> make_param_table() {
               "fast spin slightly with few iterations).")
       .integer("rotation_iterations", &Params::rotation_iterations, 1, 1000,
                "most quaternion iterations per cluster and step (stops early below 1e-12 rad). "
-               "More: closer to the exact rotation, dearer.");
+               "More: closer to the exact rotation, dearer.")
+      .record("calibrated", &Params::calibrated,
+              "null, or the record `softbench calibrate` writes when it fitted alpha and beta: "
+              "the reference, dt, its sag and press forces, the errors left.");
   return table;
 }
 
@@ -79,6 +82,11 @@ ModelInfo shape_matching_info() {
   info.stiffness_axis = {"alpha", false, nlohmann::json::object(),
                          "alpha (pull toward the goal per step); shape matching ignores Young's "
                          "modulus"};
+  // Both knobs of its stiffness: alpha (the pull per step, down to very soft) and beta (how
+  // much deformation the goals keep).
+  info.calibration.fitted = {{"alpha", 0.01, 1.0, true}, {"beta", 0.0, 1.0, false}};
+  // Fewer, larger clusters: fewer polar decompositions, a stiffer and less local response.
+  info.speed_settings = {{{"clusters", 20}}, {{"clusters", 8}}};
   return info;
 }
 

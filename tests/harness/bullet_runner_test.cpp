@@ -4,7 +4,6 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_validation.h"
-#include "harness/calibrate/calibration.h"
 #include "harness/report/model_run_json.h"
 #include "harness/report/run_report.h"
 #include "harness/run/runner.h"
@@ -72,24 +71,6 @@ TEST_F(BulletRunnerTest, ImplicitNeoHookeanAtOneSixtiethRunsStableWithExactPins)
   EXPECT_EQ(runs[0].solver.max_constraint_error, 0.0);
   EXPECT_GT(runs[0].solver.mean_iterations, 0.0);  // CG iterations reach the metrics
   EXPECT_GT(runs[0].solver.linear_solves, 0);
-}
-
-TEST_F(BulletRunnerTest, CalibrationMatchesTheReferenceSagAndRecordsIt) {
-  const scenes::Scene bar = scene("{}", 1.0 / 60.0);
-  constexpr double kTolerance = 0.03;
-  const StiffnessCalibration calibration = calibrate_bullet_softbody(bar, kTolerance, nullptr);
-  EXPECT_GT(calibration.reference_sag, 0.0);
-  EXPECT_NEAR(calibration.sag / calibration.reference_sag, 1.0, kTolerance);
-  EXPECT_EQ(calibration.params["calibrated"]["against"], calibration.against);
-  EXPECT_EQ(calibration.params["calibrated"]["dt"], bar.dt);
-  EXPECT_EQ(calibration.params["calibrated"]["sag"], calibration.reference_sag);
-  // The block reproduces the sag it was fitted to.
-  const TetMesh mesh = make_tet_mesh(read_mesh(bar.mesh));
-  const StaticSag check = static_sag(bar, mesh, "bullet_softbody", calibration.params);
-  EXPECT_TRUE(check.settled);
-  // The fit ran with settling damping, this check without: the same equilibrium, reached
-  // from a different transient.
-  EXPECT_NEAR(check.sag / calibration.reference_sag, 1.0, 2 * kTolerance);
 }
 
 }  // namespace

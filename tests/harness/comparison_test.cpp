@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iomanip>
 #include <limits>
 #include <sstream>
 
@@ -30,6 +31,7 @@ namespace {
 using ::testing::HasSubstr;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // A run as the runner reports it, reduced to what the claims read.
 ModelRun run_of(const std::string& label,
@@ -261,6 +263,87 @@ Comparison sample_comparison() {
   return comparison;
 }
 
+// The same with a table B (shape matching calibrated, the FEM following the material) and an
+// equal-accuracy trade.
+Comparison sample_matched_comparison() {
+  Comparison comparison = sample_comparison();
+  ModelRun fem = run_of("corotational_fem", 0.001);
+  fem.timing.steps_per_second_with_collision = 100.0;
+  fem.accuracy = Accuracy{0.12, 0.3, 0.01, 0.07, 0.038};
+  ModelRun sm = run_of("shape_matching", 0.004);
+  sm.timing.steps_per_second_with_collision = 2000.0;
+  sm.accuracy = Accuracy{0.25, 0.5, 0.05, std::nullopt, 0.08};
+  MatchedScene matched;
+  matched.name = "pull";
+  matched.reference = "neo_hookean";
+  matched.runs = {fem, sm};
+  matched.calibrations["shape_matching"] = {{"values", {{"alpha", 0.31}, {"beta", 0.2}}},
+                                            {"targets", {"sag", "force at 0.5 cm"}},
+                                            {"errors", {0.03, -0.12}},
+                                            {"evaluations", 30},
+                                            {"seconds", 12.5},
+                                            {"cached", false}};
+  matched.notes = {"bullet_softbody: not calibrated"};
+  comparison.matched = {matched};
+  EqualAccuracy trade;
+  trade.scene = "pull";
+  trade.settings = {
+      {"corotational_fem", nlohmann::json::object(), 1.0 / 60, true, 1.7, 0.12, ""},
+      {"corotational_fem", {{"cg_tolerance", 0.1}}, 1.0 / 60, true, 2.5, 0.3, ""},
+      {"shape_matching", nlohmann::json::object(), 1.0 / 30, true, 60.0, 0.25, ""},
+      {"shape_matching", {{"clusters", 8}}, 1.0 / 30, false, 0.0, kInfinity, ""},
+  };
+  comparison.equal_accuracy = trade;
+  return comparison;
+}
+
+TEST(CompareJson, RoundTripsTableBAndTheEqualAccuracyTrade) {
+  const nlohmann::json json = comparison_json(sample_matched_comparison());
+  const Comparison back = comparison_from_json(nlohmann::json::parse(json.dump()));
+  EXPECT_EQ(comparison_json(back), json);
+  ASSERT_EQ(back.matched.size(), 1u);
+  EXPECT_EQ(back.matched[0].runs[0].accuracy->diagonal_error, 0.038);
+  EXPECT_EQ(back.matched[0].calibrations.at("shape_matching")["values"]["alpha"], 0.31);
+  ASSERT_TRUE(back.equal_accuracy.has_value());
+  EXPECT_EQ(back.equal_accuracy->settings.size(), 4u);
+  EXPECT_TRUE(std::isinf(back.equal_accuracy->settings[3].error));
+}
+
+TEST(CompareMarkdown, TableBHasEveryColumnForEveryModelAndTheThesisRatios) {
+  const std::string markdown = comparison_markdown(sample_matched_comparison());
+  EXPECT_THAT(markdown, HasSubstr("# A. Thesis parameters"));
+  EXPECT_THAT(markdown, HasSubstr("# B. Matched to the tissue"));
+  EXPECT_THAT(markdown, HasSubstr("| model | calibration (fitted; error left on each target) | "
+                                  "steps/s with collision | real-time factor | position error (% "
+                                  "of diagonal) | position error (% of the reference's "
+                                  "displacement) | peak tool force (N) | peak force error | "
+                                  "stable | warnings |"));
+  // model, calibration, steps/s, real-time factor (x dt 1/60 of the scene echo: none here, so
+  // "-"), errors, force, force error, stable.
+  EXPECT_THAT(markdown, HasSubstr("| corotational_fem | follows the material | 100 |"));
+  EXPECT_THAT(markdown, HasSubstr("| 3.80 | 12.0 | 0.000 | +7% | yes |"));
+  EXPECT_THAT(markdown, HasSubstr("| shape_matching | alpha 0.31, beta 0.2 (sag +3%, force at "
+                                  "0.5 cm -12%) | 2000 |"));
+  EXPECT_THAT(markdown, HasSubstr("- bullet_softbody: not calibrated"));
+  EXPECT_THAT(markdown, HasSubstr("shape_matching / FEM: thesis 21.6, ours 20.00;"));
+  EXPECT_THAT(markdown, HasSubstr("mass_spring / FEM: thesis 9.2, ours -;"));
+  EXPECT_THAT(markdown, HasSubstr("judged on table B"));
+}
+
+TEST(EqualAccuracy, PicksTheFastestStableSettingWithinEachBudget) {
+  const EqualAccuracy trade = *sample_matched_comparison().equal_accuracy;
+  EXPECT_FALSE(fastest_within(trade, "corotational_fem", 0.10).has_value());
+  EXPECT_EQ(fastest_within(trade, "corotational_fem", 0.20)->realtime_factor, 1.7);
+  EXPECT_EQ(fastest_within(trade, "corotational_fem", 0.40)->realtime_factor, 2.5);
+  // The setting that blew up never counts, whatever the budget.
+  EXPECT_EQ(fastest_within(trade, "shape_matching", 0.40)->realtime_factor, 60.0);
+  const std::string markdown = comparison_markdown(sample_matched_comparison());
+  EXPECT_THAT(markdown, HasSubstr("# C. Equal accuracy on pull"));
+  EXPECT_THAT(markdown, HasSubstr("| corotational_fem | - | - | 1.70x (defaults, dt 16.7 ms) | "
+                                  "2.50x ({\"cg_tolerance\":0.1}, dt 16.7 ms) |"));
+  EXPECT_THAT(markdown, HasSubstr("| shape_matching | {\"clusters\":8}, dt 33.3 ms | blew up |"));
+}
+
 TEST(CompareJson, RoundTripsEveryFieldItWrites) {
   const Comparison original = sample_comparison();
   const nlohmann::json json = comparison_json(original);
@@ -404,7 +487,9 @@ TEST(CompareEndToEnd, RunsTwoModelsAndTheLinearVariantAndWritesTheReports) {
   CompareOptions options;
   options.models = {"mass_spring", "corotational_fem", "corotational_fem(linear)"};
   options.warmup_steps = 2;
+  options.matched = false;  // table A alone (table B: the press below)
   const Comparison comparison = run_comparison({scenes::load_scene(scene_path)}, options);
+  EXPECT_TRUE(comparison.matched.empty());
   ASSERT_EQ(comparison.scenes.size(), 1u);
   const SceneComparison& scene = comparison.scenes[0];
   ASSERT_EQ(scene.runs.size(), 3u);
@@ -437,6 +522,61 @@ TEST(CompareEndToEnd, RunsTwoModelsAndTheLinearVariantAndWritesTheReports) {
   const PlotOutcome plots = plot_comparison(out);
   ASSERT_TRUE(plots.plotted) << plots.message;
   test::expect_png_files(plots, out, {"steps_per_second.png", "recovery_bar_pull.png"});
+}
+
+// A 6 x 4 x 4 cm block (E 20 kPa) hanging from its top-back edge band, settling under gravity,
+// then pressed 1 cm by a 1 cm cube from above: table B calibrates mass_spring to the reference,
+// runs both rows against it, and judges the claims on those runs.
+TEST(CompareEndToEnd, TableBCalibratesMeasuresAndJudgesTheClaimsOnIt) {
+  const test::TempDir dir;
+  write_msh(dir.path() / "block.msh", test::box_tets(3, 2, 2, 0.06, 0.04, 0.04));
+  MeshData cube = test::cube_surface();
+  cube.vertices = (0.01 * cube.vertices).colwise() - Eigen::Vector3d(0.005, 0.005, 0.0);
+  write_obj(dir.path() / "cube.obj", cube);
+  const std::filesystem::path scene_path = dir.write("block_press.json", R"({
+    "name": "block_press",
+    "mesh": "block.msh",
+    "material": {"young_modulus": 20000, "poisson_ratio": 0.3, "density": 1000},
+    "gravity": [0, 0, -9.81],
+    "time": {"dt": 0.016666666666666666, "duration": 1.5},
+    "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
+    "instrument": {"mesh": "cube.obj", "start": 0.5, "release": 1.0, "path": [
+      {"t": 0.5, "position": [0.04, 0.02, 0.045]},
+      {"t": 0.8, "position": [0.04, 0.02, 0.03]},
+      {"t": 1.0, "position": [0.04, 0.02, 0.03]},
+      {"t": 1.2, "position": [0.04, 0.02, 0.08]}]},
+    "models": {"corotational_fem": {"rayleigh_mass": 5.0}, "neo_hookean": {"rayleigh_mass": 5.0}}
+  })");
+  CompareOptions options;
+  options.models = {"mass_spring", "corotational_fem"};
+  options.warmup_steps = 2;
+  options.equal_accuracy = false;
+  options.reference_dir = dir.path() / "reference";
+  options.calibration_dir = dir.path() / "calibration";
+  const Comparison comparison = run_comparison({scenes::load_scene(scene_path)}, options);
+  ASSERT_EQ(comparison.matched.size(), 1u);
+  const MatchedScene& matched = comparison.matched[0];
+  EXPECT_EQ(matched.reference, "neo_hookean");
+  EXPECT_TRUE(matched.notes.empty()) << matched.notes.front();
+  ASSERT_EQ(matched.runs.size(), 2u);
+  for (const ModelRun& run : matched.runs) {
+    ASSERT_TRUE(run.accuracy.has_value()) << run.model;
+    EXPECT_TRUE(std::isfinite(run.accuracy->rms_error)) << run.model;
+    EXPECT_GT(run.accuracy->diagonal_error, 0.0) << run.model;
+    EXPECT_TRUE(run.snapshots.empty()) << run.model;  // measured, not kept
+  }
+  // mass_spring was fitted, and its block in table B is the fitted one; the FEM follows E.
+  ASSERT_EQ(matched.calibrations.count("mass_spring"), 1u);
+  EXPECT_EQ(matched.calibrations.count("corotational_fem"), 0u);
+  EXPECT_EQ(matched.runs[0].params["calibrated"]["against"], "neo_hookean");
+  EXPECT_EQ(matched.runs[0].params["stiffness_scale"],
+            matched.calibrations.at("mass_spring")["values"]["stiffness_scale"]);
+  // The claims read table B: the mass-spring claim's evidence is table B's run.
+  ASSERT_TRUE(matched.runs[0].recovery.measured);
+  const Claim mass_spring = claim(comparison.claims, kMassSpring);
+  std::ostringstream residual;
+  residual << std::fixed << std::setprecision(2) << 100.0 * matched.runs[0].recovery.residual;
+  EXPECT_THAT(mass_spring.evidence, HasSubstr("residual " + residual.str() + "%"));
 }
 
 }  // namespace

@@ -72,7 +72,8 @@ TEST_F(RunnerTest, ReportsABlowUpAsUnstableAndGoesOn) {
   // Symplectic Euler at dt = 1/30 with the thesis's damping is far beyond its stability limit.
   const std::vector<ModelRun> runs = run_scene(
       scene(
-          R"({"mass_spring": {"integrator": "symplectic_euler", "stiffness": 180, "damping": 5}})",
+          R"({"mass_spring": {"integrator": "symplectic_euler", "stiffness_from": "given",
+                              "stiffness": 180, "damping": 5}})",
           1.0 / 30.0),
       options);
   ASSERT_EQ(runs.size(), 1u);

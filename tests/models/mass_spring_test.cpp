@@ -11,9 +11,12 @@
 #include <Eigen/Geometry>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -33,15 +36,25 @@ using Params = MassSpringParams;
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
-Params symplectic(double damping = 5.0) {
+/// The thesis's springs, k = 180 N/m and c = 5 N s/m on every edge, which the tests below that
+/// name no other springs use (the defaults follow the material instead: see "Defaults").
+Params thesis_springs() {
   Params params;
+  params.stiffness_from = Params::StiffnessFrom::kGiven;
+  params.stiffness = 180.0;
+  params.damping = 5.0;
+  return params;
+}
+
+Params symplectic(double damping = 5.0) {
+  Params params = thesis_springs();
   params.integrator = Params::Integrator::kSymplecticEuler;
   params.damping = damping;
   return params;
 }
 
 Params implicit(Params::LinearSolver solver, double cg_tolerance = 1e-6) {
-  Params params;
+  Params params = thesis_springs();
   params.integrator = Params::Integrator::kImplicitEuler;
   params.solver = solver;
   params.cg_tolerance = cg_tolerance;
@@ -420,6 +433,290 @@ TEST(MassSpring, ReportsTheMemoryItHolds) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Defaults: springs that follow the material, no damping but backward Euler's own
+
+TEST(MassSpringDefaults, SpringsFollowYoungsModulusAndNothingDampsThem) {
+  const Params defaults;
+  EXPECT_EQ(defaults.stiffness_from, Params::StiffnessFrom::kYoungModulus);
+  EXPECT_EQ(defaults.damping, 0.0);
+  EXPECT_EQ(defaults.rayleigh_stiffness, 0.0);
+  EXPECT_EQ(defaults.mass_damping, 0.0);
+  EXPECT_EQ(defaults.stiffness, 180.0);  // the thesis's, for "given"
+  EXPECT_EQ(defaults.integrator, Params::Integrator::kImplicitEuler);
+  EXPECT_EQ(defaults.solver, Params::LinearSolver::kConjugateGradient);
+  EXPECT_EQ(defaults.cg_tolerance, 1e-6);
+  // `softbench models` documents the same defaults.
+  std::map<std::string, nlohmann::json> documented;
+  for (const ParameterDoc& doc : mass_spring_info().parameters) {
+    documented[doc.name] = doc.default_value;
+  }
+  EXPECT_EQ(documented.at("stiffness_from"), "young_modulus");
+  EXPECT_EQ(documented.at("damping"), 0.0);
+  EXPECT_EQ(documented.at("rayleigh_stiffness"), 0.0);
+  EXPECT_EQ(documented.at("mass_damping"), 0.0);
+  EXPECT_EQ(documented.at("preconditioner"), "ssor");
+  // And a scene block that gives nothing gets them.
+  auto body = mass_spring_info().create(make_tet_mesh(test::single_tet()), Material{}, nullptr,
+                                        ParamSource{});
+  EXPECT_EQ(body->parameters()["stiffness_from"], "young_modulus");
+  EXPECT_EQ(body->parameters()["damping"], 0.0);
+}
+
+TEST(MassSpringDefaults, ABarInTensionStretchesAsYoungsModulusSays) {
+  // A 10 x 1 x 1 cm bar (20 x 2 x 2 cubes of 6 tets) with its x = 0 end pinned, pulled at the
+  // other end by a uniform axial stress sigma (equal shares on that end's vertices), comes to
+  // rest at the strain sigma / E_eff. With the default springs (Van Gelder's, from E) E_eff/E is
+  // 1.032, 1.022 and 1.027 with 1, 2 and 4 cubes across (measured); a mass-spring model has no
+  // Poisson effect to get right (this bar even thickens, by a tenth of its strain), so its
+  // axial stiffness is what can follow E. Required within 5%.
+  constexpr double kLength = 0.1;
+  constexpr double kWidth = 0.01;
+  const TetMesh mesh = make_tet_mesh(test::box_tets(20, 2, 2, kLength, kWidth, kWidth));
+  const Material material;  // E 3000 Pa
+  Params params;
+  params.mass_damping = 20.0;  // 1/s: to rest sooner (the equilibrium does not depend on it)
+  auto body = make_mass_spring(mesh, material, params);
+
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  std::vector<int> pulled;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.rest_positions()(0, v) > kLength - 1e-12) {
+      pulled.push_back(v);
+    }
+  }
+  constexpr double kStress = 30.0;  // Pa: 1% strain at E
+  Eigen::Matrix3Xd loads = Eigen::Matrix3Xd::Zero(3, mesh.num_vertices());
+  for (const int v : pulled) {
+    loads(0, v) = kStress * kWidth * kWidth / static_cast<double>(pulled.size());
+  }
+  StepInput input = no_gravity(pins);
+  input.external_forces = &loads;
+  for (int step = 0; step < 1500; ++step) {
+    ASSERT_TRUE(body->step(0.01, input).finite);
+  }
+  // At rest: what is left moves the end by 1e-8 of its stretch per step.
+  ASSERT_LT(body->velocities().cwiseAbs().maxCoeff(), 1e-6);  // m/s
+
+  double stretch = 0.0;
+  for (const int v : pulled) {
+    stretch += body->positions()(0, v) - kLength;
+  }
+  const double strain = stretch / static_cast<double>(pulled.size()) / kLength;
+  constexpr double kFollowsE = 0.05;
+  EXPECT_NEAR(kStress / strain / material.young_modulus, 1.0, kFollowsE) << "strain " << strain;
+}
+
+TEST(MassSpringDamping, RayleighStiffnessGivesEachSpringADashpotBetaTimesItsStiffness) {
+  // The single-tet mode of SymplecticEulerOscillatesAtTheAnalyticFrequency: vertices 0, 1, 2
+  // pinned, vertex 3 moving along u = (1, -1, 0)/sqrt(2), m = density/24. Springs 3-1 and 3-2
+  // have (d.u)^2 = 1/4 and 3-0 is across u, so u is a mode with k_eff = (k_31 + k_32)/4: k/2
+  // for "given" springs, E/24 for Van Gelder's (k_e = E V / L_e^2 with L_e = sqrt(2) for both,
+  // against E/6 on the axis edge 3-0: the springs differ, and only dashpots beta k_e each make
+  // the damping beta K). With them the dashpots along u sum to c_eff = beta k_eff, and the mode
+  // decays as exp(-sigma t), sigma = c_eff / (2 m) = beta omega^2 / 2. Symplectic Euler's one-step
+  // map has determinant 1 - dt c_eff/m: its decay rate -ln(1 - dt c_eff/m) / (2 dt) is within
+  // dt c_eff / (2 m) ~ 1e-4 of sigma here, and the sampled peaks are within (omega dt)^2 / 8 ~
+  // 4e-7 of the true ones: required within 0.1%.
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  const Material material;
+  const double mass = material.density / 24.0;
+  for (const Params::StiffnessFrom from :
+       {Params::StiffnessFrom::kGiven, Params::StiffnessFrom::kYoungModulus}) {
+    Params params = symplectic(/*damping=*/0.0);
+    params.stiffness_from = from;
+    params.rayleigh_stiffness = 0.07;  // s: a damping ratio of about 0.05 on this mode
+    auto body = make_mass_spring(mesh, material, params);
+    const double k_eff = from == Params::StiffnessFrom::kGiven ? 0.5 * params.stiffness
+                                                               : material.young_modulus / 24.0;
+    const double omega_squared = k_eff / mass;
+    const double sigma = params.rayleigh_stiffness * omega_squared / 2.0;
+    const double period = 2.0 * std::numbers::pi / std::sqrt(omega_squared);
+
+    const Eigen::Vector3d u = Eigen::Vector3d(1, -1, 0).normalized();
+    constexpr double kAmplitude = 1e-4;  // m: small against the 1 m springs, so linear
+    Eigen::Matrix3Xd start = mesh.rest_positions();
+    start.col(3) += kAmplitude * u;
+    place_at_rest(*body, start);
+    std::vector<PositionConstraint> pins;
+    for (int v = 0; v < 3; ++v) {
+      pins.push_back({v, mesh.rest_positions().col(v), kExact});
+    }
+    constexpr double kDt = 1e-3;
+    std::vector<double> peak_times;
+    std::vector<double> peaks;
+    double before = kAmplitude;
+    double previous = kAmplitude;
+    for (int step = 1; step * kDt < 6.5 * period; ++step) {
+      body->step(kDt, no_gravity(pins));
+      const double displacement = (body->positions().col(3) - mesh.rest_positions().col(3)).dot(u);
+      if (step > 1 && previous > before && previous >= displacement) {
+        peak_times.push_back((step - 1) * kDt);
+        peaks.push_back(previous);
+      }
+      before = previous;
+      previous = displacement;
+    }
+    ASSERT_GE(peaks.size(), 5U);
+    const double measured =
+        std::log(peaks.front() / peaks.back()) / (peak_times.back() - peak_times.front());
+    constexpr double kDecayTolerance = 1e-3;
+    EXPECT_NEAR(measured, sigma, kDecayTolerance * sigma) << static_cast<int>(from);
+  }
+}
+
+TEST(MassSpringDamping, RayleighStiffnessOnGivenSpringsIsThatMuchDamping) {
+  // Every spring has k = 180 N/m: rayleigh_stiffness beta is damping = 180 beta N s/m, step for
+  // step (to round-off: the dashpot is summed as damping + beta k).
+  const TetMesh mesh = liver_like_box();
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  Params rayleigh = implicit(Params::LinearSolver::kCholmod);
+  rayleigh.damping = 0.0;
+  rayleigh.rayleigh_stiffness = 0.01;
+  Params damping = rayleigh;
+  damping.rayleigh_stiffness = 0.0;
+  damping.damping = 1.8;
+  auto by_rayleigh = make_mass_spring(mesh, Material{}, rayleigh);
+  auto by_damping = make_mass_spring(mesh, Material{}, damping);
+  for (int step = 0; step < 20; ++step) {
+    by_rayleigh->step(1.0 / 60.0, input);
+    by_damping->step(1.0 / 60.0, input);
+  }
+  const double motion = (by_damping->positions() - mesh.rest_positions()).norm();
+  ASSERT_GT(motion, 0.0);
+  EXPECT_LT((by_rayleigh->positions() - by_damping->positions()).norm(), 1e-12 * motion);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The matrix-free CG against CHOLMOD
+
+/// A contact-like set-up on a liver-sized box: its x = 0 face pinned, a flat probe pressing the
+/// top face's vertices near the middle (each held along z only, frictionless, at a target that
+/// descends 1 cm over 0.5 s), one more top vertex on a penalty spring, under gravity.
+struct PressedBox {
+  TetMesh mesh = make_tet_mesh(test::box_tets(8, 6, 4, 0.2, 0.15, 0.1));
+  std::vector<int> pressed;
+
+  std::vector<PositionConstraint> constraints(double t) const {
+    std::vector<PositionConstraint> result = pin_min_x_face(mesh);
+    for (const int v : pressed) {
+      PositionConstraint contact;
+      contact.vertex = v;
+      contact.target = mesh.rest_positions().col(v) - Eigen::Vector3d(0.0, 0.0, 0.02 * t);
+      contact.held = PositionConstraint::along(Eigen::Vector3d::UnitZ());
+      result.push_back(contact);
+    }
+    const int penalty_vertex = pressed.front() + 1;
+    result.push_back({penalty_vertex,
+                      mesh.rest_positions().col(penalty_vertex) + Eigen::Vector3d(0, 0, 0.005),
+                      50.0});
+    return result;
+  }
+
+  PressedBox() {
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const Eigen::Vector3d x = mesh.rest_positions().col(v);
+      if (x.z() > 0.1 - 1e-9 && std::abs(x.x() - 0.125) < 0.03 && std::abs(x.y() - 0.075) < 0.03) {
+        pressed.push_back(v);
+      }
+    }
+  }
+};
+
+TEST(MassSpring, ConjugateGradientFollowsCholmodUnderAPressingContact) {
+  // Each solve stops at the default cg_tolerance (1e-6, the estimated energy-norm error of the
+  // new velocity, relative). Over 30 steps the positions stayed within 7e-10 of the motion of
+  // CHOLMOD's and the probe's force within 2e-10 of itself with "ssor", 5e-8 and 2e-8 with
+  // "block_jacobi" (measured): required within 1e-6.
+  const PressedBox box;
+  ASSERT_GE(box.pressed.size(), 4U);
+  for (const Params::Preconditioner preconditioner :
+       {Params::Preconditioner::kSsor, Params::Preconditioner::kBlockJacobi}) {
+    Params iterative;
+    iterative.mass_damping = 5.0;
+    iterative.preconditioner = preconditioner;
+    Params direct = iterative;
+    direct.solver = Params::LinearSolver::kCholmod;
+    auto cg = make_mass_spring(box.mesh, Material{}, iterative);
+    auto cholmod = make_mass_spring(box.mesh, Material{}, direct);
+    double worst_position = 0.0;
+    double worst_force = 0.0;
+    for (int step = 1; step <= 30; ++step) {
+      const std::vector<PositionConstraint> constraints = box.constraints(step / 60.0);
+      StepInput input;
+      input.constraints = constraints;
+      ASSERT_TRUE(cg->step(1.0 / 60.0, input).finite);
+      ASSERT_TRUE(cholmod->step(1.0 / 60.0, input).finite);
+      const double motion = (cholmod->positions() - box.mesh.rest_positions()).norm();
+      worst_position =
+          std::max(worst_position, (cg->positions() - cholmod->positions()).norm() / motion);
+      Eigen::Vector3d cg_force = Eigen::Vector3d::Zero();
+      Eigen::Vector3d cholmod_force = Eigen::Vector3d::Zero();
+      for (const int v : box.pressed) {
+        cg_force += cg->constraint_forces().col(v);
+        cholmod_force += cholmod->constraint_forces().col(v);
+      }
+      worst_force = std::max(worst_force, (cg_force - cholmod_force).norm() / cholmod_force.norm());
+    }
+    constexpr double kAgreement = 1e-6;
+    EXPECT_LT(worst_position, kAgreement) << static_cast<int>(preconditioner);
+    EXPECT_LT(worst_force, kAgreement) << static_cast<int>(preconditioner);
+  }
+}
+
+TEST(MassSpring, SsorTakesFewerIterationsThanBlockJacobi) {
+  // Same system, same stopping rule: symmetric Gauss-Seidel (Eisenstat's form, about the cost of
+  // one product per iteration) needs about half of block Jacobi's iterations on a mesh like this.
+  const PressedBox box;
+  const auto iterations = [&box](Params::Preconditioner preconditioner) {
+    Params params;
+    params.preconditioner = preconditioner;
+    auto body = make_mass_spring(box.mesh, Material{}, params);
+    int total = 0;
+    for (int step = 1; step <= 20; ++step) {
+      const std::vector<PositionConstraint> constraints = box.constraints(step / 60.0);
+      StepInput input;
+      input.constraints = constraints;
+      total += body->step(1.0 / 60.0, input).iterations;
+    }
+    return total;
+  };
+  const int ssor = iterations(Params::Preconditioner::kSsor);
+  const int jacobi = iterations(Params::Preconditioner::kBlockJacobi);
+  EXPECT_GT(ssor, 0);
+  EXPECT_LT(ssor, 0.75 * jacobi) << ssor << " vs " << jacobi;
+}
+
+TEST(MassSpring, AMeshAboveTheParallelThresholdStepsAlikeOnOneAndTwoThreads) {
+  // 14^3 = 2744 vertices, above BlockPattern::kParallelVertices: the spring and vertex loops run
+  // in parallel, each sum in a fixed order, and the solve on one thread.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(13, 13, 13, 0.13, 0.13, 0.13));
+  ASSERT_GT(mesh.num_vertices(), 2048);
+  const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
+  StepInput input;
+  input.constraints = pins;
+  for (const Params& params : {Params{}, symplectic()}) {
+    const double dt = params.integrator == Params::Integrator::kSymplecticEuler ? 1e-5 : 1.0 / 60;
+    const auto run = [&](int threads) {
+      const int before = omp_get_max_threads();
+      omp_set_num_threads(threads);
+      auto body = make_mass_spring(mesh, Material{}, params);
+      for (int step = 0; step < 3; ++step) {
+        body->step(dt, input);
+      }
+      omp_set_num_threads(before);
+      return Eigen::Matrix3Xd(body->positions());
+    };
+    const Eigen::Matrix3Xd one = run(1);
+    const Eigen::Matrix3Xd two = run(2);
+    EXPECT_TRUE(one.allFinite());
+    EXPECT_EQ(one, two);
+    EXPECT_GT((one - mesh.rest_positions()).norm(), 0.0);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
 // Parameters
 
 std::string factory_error(const nlohmann::json& params) {
@@ -448,6 +745,11 @@ TEST(MassSpringParams, OutOfRangeValuesAreRejected) {
   EXPECT_THAT(factory_error({{"stiffness", -1.0}}),
               HasSubstr("/models/mass_spring/stiffness: expected a number > 0, got -1"));
   EXPECT_THAT(factory_error({{"damping", -0.5}}), HasSubstr("/models/mass_spring/damping"));
+  EXPECT_THAT(factory_error({{"rayleigh_stiffness", -0.01}}),
+              HasSubstr("/models/mass_spring/rayleigh_stiffness"));
+  EXPECT_THAT(factory_error({{"preconditioner", "ilu"}}),
+              HasSubstr("/models/mass_spring/preconditioner: expected one of \"ssor\", "
+                        "\"block_jacobi\""));
   EXPECT_THAT(factory_error({{"cg_tolerance", 0.0}}),
               HasSubstr("/models/mass_spring/cg_tolerance"));
   EXPECT_THAT(factory_error({{"integrator", "rk4"}}),
@@ -477,21 +779,20 @@ TEST(MassSpringParams, RegistryListsEveryParameterWithItsDefault) {
       EXPECT_EQ(doc.default_value, 180.0);
     }
   }
-  EXPECT_THAT(names, ::testing::UnorderedElementsAre("stiffness", "stiffness_from", "damping",
-                                                     "mass_damping", "integrator", "solver",
-                                                     "cg_tolerance", "cg_max_iterations"));
+  EXPECT_THAT(names, ::testing::UnorderedElementsAre(
+                         "stiffness", "stiffness_from", "stiffness_scale", "damping",
+                         "rayleigh_stiffness", "mass_damping", "integrator", "solver",
+                         "preconditioner", "cg_tolerance", "cg_max_iterations", "calibrated"));
 }
 
 TEST(MassSpringParams, ParametersRoundTripThroughTheRegistryFactory) {
   const TetMesh mesh = make_tet_mesh(test::single_tet());
-  const nlohmann::json given = {{"stiffness", 250.0},
-                                {"stiffness_from", "young_modulus"},
-                                {"damping", 2.0},
-                                {"mass_damping", 0.5},
-                                {"integrator", "implicit_euler"},
-                                {"solver", "cholmod"},
-                                {"cg_tolerance", 1e-8},
-                                {"cg_max_iterations", 50}};
+  const nlohmann::json given = {{"stiffness", 250.0},   {"stiffness_from", "given"},
+                                {"damping", 2.0},       {"rayleigh_stiffness", 0.01},
+                                {"mass_damping", 0.5},  {"integrator", "implicit_euler"},
+                                {"solver", "cholmod"},  {"preconditioner", "block_jacobi"},
+                                {"cg_tolerance", 1e-8}, {"cg_max_iterations", 50},
+                                {"stiffness_scale", 1.5}, {"calibrated", nullptr}};
   auto body = mass_spring_info().create(mesh, Material{}, given, ParamSource{});
   EXPECT_EQ(body->parameters(), given);
   auto again = mass_spring_info().create(mesh, Material{}, body->parameters(), ParamSource{});
