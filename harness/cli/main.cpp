@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // softbench: the command line. Bad input (a bad option, a bad file) exits 2 with one line naming
-// the option or the file and the problem; any other failure exits 1.
+// the option or the file and the problem; Ctrl-C or SIGTERM stops between two steps and exits 130
+// (files already written stay whole, none is left half-written); any other failure exits 1.
 #include "geometry/input_error.h"
 #include "harness/calibrate/calibration.h"
 #include "harness/cli/commands.h"
+#include "harness/interrupt.h"
 #include "harness/provenance.h"
 
 #include <CLI/CLI.hpp>
@@ -23,6 +25,7 @@ int main(int argc, char** argv) {
                    add_verify_command, add_models_command, add_mesh_command}) {
     add(app);
   }
+  install_interrupt_handlers();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -33,6 +36,10 @@ int main(int argc, char** argv) {
     // at 100, which scripts would take for a crash).
     std::cerr << "softbench: error: " << error.what() << " (see --help)\n";
     return 2;
+  } catch (const Interrupted&) {
+    std::cerr << "softbench: interrupted: stopped between two steps; the unfinished results "
+                 "were not written\n";
+    return 130;
   } catch (const softbench::InputError& error) {
     std::cerr << "softbench: error: " << error.what() << "\n";
     return 2;

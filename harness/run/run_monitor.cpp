@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run/run_monitor.h"
 
+#include "harness/interrupt.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -17,6 +19,7 @@ bool RunMonitor::after_step(int step,
                             const StepStats& stats,
                             const SoftBody& body,
                             std::span<const PositionConstraint> held) {
+  check_interrupted();  // every simulation loop judges each step here: a stop lands between steps
   if (divergence_) {
     return false;
   }

@@ -3,6 +3,7 @@
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
+#include "harness/interrupt.h"
 #include "harness/report/model_run_json.h"
 #include "harness/report/run_report.h"
 #include "models/json_reader.h"
@@ -118,6 +119,16 @@ TEST_F(RunnerTest, RejectsABadBlockOfAModelNotRunBeforeAnyModelRuns) {
     EXPECT_THAT(error.what(), HasSubstr("bar_sag.json: /models/corotational_fem/cg_tolerence"));
   }
   EXPECT_EQ(progress.str(), "");  // mass_spring never ran
+}
+
+// A stop asked for (Ctrl-C, SIGTERM) ends the run between two steps with Interrupted.
+TEST_F(RunnerTest, StopsBetweenStepsWhenAStopIsAskedFor) {
+  RunOptions options;
+  options.models = {"corotational_fem"};
+  request_interrupt();
+  EXPECT_THROW(run_scene(scene("{}"), options), Interrupted);
+  clear_interrupt();
+  EXPECT_TRUE(run_scene(scene("{}"), options).front().stability.stable);
 }
 
 TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {
