@@ -317,6 +317,16 @@ void ClusterMatcher::precompute(const Eigen::Matrix3Xd& rest,
   }
 }
 
+ClusterMatcher::Slices ClusterMatcher::slices(int cluster) {
+  const int begin = cluster_begin(cluster);
+  return {begin,
+          cluster_end(cluster) - begin,
+          member_particle_.data() + begin,
+          member_weight_.data() + begin,
+          basis_.data() + static_cast<std::ptrdiff_t>(dim_) * begin,
+          work_.data() + 3 * static_cast<std::ptrdiff_t>(begin)};
+}
+
 int ClusterMatcher::match_cluster(int cluster, const Eigen::Matrix3Xd& positions) {
   return dim_ == 3 ? match_cluster_with<3>(cluster, positions)
                    : match_cluster_with<9>(cluster, positions);
@@ -324,12 +334,7 @@ int ClusterMatcher::match_cluster(int cluster, const Eigen::Matrix3Xd& positions
 
 template <int D>
 int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& positions) {
-  const int begin = cluster_begin(cluster);
-  const int n = cluster_end(cluster) - begin;
-  const int* particle = member_particle_.data() + begin;
-  const double* weight = member_weight_.data() + begin;
-  const double* basis = basis_.data() + static_cast<std::ptrdiff_t>(D) * begin;
-  double* px = work_.data() + 3 * static_cast<std::ptrdiff_t>(begin);
+  [[maybe_unused]] const auto [begin, n, particle, weight, basis, px] = slices(cluster);
   double* py = px + n;
   double* pz = py + n;
   const double* x = positions.data();
@@ -420,12 +425,7 @@ int ClusterMatcher::match_held(int cluster,
                                const Eigen::Matrix<double, 3, D>& apq,
                                const Eigen::Vector3d& reference,
                                const Eigen::Vector3d& centre) {
-  const int begin = cluster_begin(cluster);
-  const int n = cluster_end(cluster) - begin;
-  const int* particle = member_particle_.data() + begin;
-  const double* weight = member_weight_.data() + begin;
-  const double* basis = basis_.data() + static_cast<std::ptrdiff_t>(D) * begin;
-  double* px = work_.data() + 3 * static_cast<std::ptrdiff_t>(begin);
+  [[maybe_unused]] const auto [begin, n, particle, weight, basis, px] = slices(cluster);
   double* py = px + n;
   double* pz = py + n;
 
@@ -576,11 +576,7 @@ void ClusterMatcher::refit_held_with(int cluster, HeldCluster& held) {
   constexpr int F = D + 1;
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxFit, kMaxFit>;
   using Range = Eigen::Matrix<double, F, Eigen::Dynamic, 0, F, kMaxFit>;
-  const int begin = cluster_begin(cluster);
-  const int n = cluster_end(cluster) - begin;
-  const int* particle = member_particle_.data() + begin;
-  const double* weight = member_weight_.data() + begin;
-  const double* basis = basis_.data() + static_cast<std::ptrdiff_t>(D) * begin;
+  [[maybe_unused]] const auto [begin, n, particle, weight, basis, work] = slices(cluster);
   const auto basis_of = [&](int j) {
     Eigen::Matrix<double, D, 1> b;
     for (int d = 0; d < D; ++d) {

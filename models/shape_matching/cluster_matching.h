@@ -157,6 +157,18 @@ class ClusterMatcher {
   };
 
   static std::size_t index(int i) { return static_cast<std::size_t>(i); }
+  /// Cluster k's slices of the per-membership arrays (the layout above): the first membership,
+  /// the member count, and where its particles, weights, basis rows (D x n) and work rows
+  /// (3 x n) start.
+  struct Slices {
+    int begin;
+    int n;
+    const int* particle;
+    const double* weight;
+    const double* basis;
+    double* work;
+  };
+  Slices slices(int cluster);
   template <int D>
   int match_cluster_with(int cluster, const Eigen::Matrix3Xd& positions);
   template <int D>
