@@ -53,4 +53,21 @@ struct StepTotals {
   }
 };
 
+/// The timed loop every model benchmark runs: `warm` (steps left out of the timing) `warm_up`
+/// times, then `timed` in batches of `batch` while the benchmark asks for more, its StepStats
+/// summed and reported (StepTotals::report; false if a step blew up).
+template <class Warm, class Timed>
+bool time_steps(benchmark::State& state, int warm_up, int batch, Warm warm, Timed timed) {
+  for (int step = 0; step < warm_up; ++step) {
+    warm();
+  }
+  StepTotals totals;
+  while (state.KeepRunningBatch(batch)) {
+    for (int step = 0; step < batch; ++step) {
+      totals.add(timed());
+    }
+  }
+  return totals.report(state);
+}
+
 }  // namespace softbench::bench

@@ -171,18 +171,10 @@ void fem_step(benchmark::State& state,
   StepInput input;
   input.gravity = {0.0, 0.0, -9.81};
   input.constraints = pins;
-  for (int step = 0; step < kWarmUpSteps; ++step) {
-    model.step(kDt, input);
-  }
-
   PhaseTimes phases;
-  bench::StepTotals totals;
-  while (state.KeepRunningBatch(kStepsPerBatch)) {
-    for (int step = 0; step < kStepsPerBatch; ++step) {
-      totals.add(model.step_timed(kDt, input, &phases));
-    }
-  }
-  if (!totals.report(state)) {
+  if (!bench::time_steps(
+          state, kWarmUpSteps, kStepsPerBatch, [&] { return model.step(kDt, input); },
+          [&] { return model.step_timed(kDt, input, &phases); })) {
     return;
   }
   const auto steps = static_cast<double>(state.iterations());

@@ -106,18 +106,10 @@ void mass_spring_step(benchmark::State& state, const Variant& variant) {
   MassSpringModel model(mesh, kLiverMaterial, variant.params);
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
   const StepInput input = liver_input(pins);
-  for (int step = 0; step < kWarmUpSteps; ++step) {
-    model.step(kDt, input);
-  }
-
   PhaseTimes phases;
-  bench::StepTotals totals;
-  while (state.KeepRunningBatch(kStepsPerBatch)) {
-    for (int step = 0; step < kStepsPerBatch; ++step) {
-      totals.add(model.step_timed(kDt, input, &phases));
-    }
-  }
-  if (!totals.report(state)) {
+  if (!bench::time_steps(
+          state, kWarmUpSteps, kStepsPerBatch, [&] { return model.step(kDt, input); },
+          [&] { return model.step_timed(kDt, input, &phases); })) {
     return;
   }
   const auto steps = static_cast<double>(state.iterations());
@@ -146,16 +138,8 @@ void peer_step(benchmark::State& state, const std::string& model_name) {
                   ParamSource{"mass_spring_bench", "/" + model_name});
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
   const StepInput input = liver_input(pins);
-  for (int step = 0; step < kWarmUpSteps; ++step) {
-    body->step(kDt, input);
-  }
-  bench::StepTotals totals;
-  while (state.KeepRunningBatch(kStepsPerBatch)) {
-    for (int step = 0; step < kStepsPerBatch; ++step) {
-      totals.add(body->step(kDt, input));
-    }
-  }
-  totals.report(state);
+  const auto step = [&] { return body->step(kDt, input); };
+  bench::time_steps(state, kWarmUpSteps, kStepsPerBatch, step, step);
 }
 
 void register_benchmarks() {

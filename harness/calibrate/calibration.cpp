@@ -365,6 +365,7 @@ Calibration calibrate(const scenes::Scene& scene,
       *options.progress << " N, cost " << value << " (at rest after " << response.sag.time
                         << " s; " << response.seconds << " s)\n";
     }
+    response.sag.positions.resize(3, 0);  // the targets are kept, not every candidate's shape
     responses.emplace(u, std::move(response));
     return value;
   });
