@@ -46,6 +46,10 @@
 //   machine an earlier build gave 83 -> 63 us.
 //   BM_ShapeMatchingHolds (thread CPU-time medians): free 65.7 us, pinned 72.0 us (1.10x),
 //   contact 90.7 us (1.38x; 12.7 contact holds and 5.6 clusters refitted a step).
+//   The figures above are one pass a step. With the default four passes (2026-11-25, medians of
+//   3, load 1-2): BM_ShapeMatchingLiver thesis 288 us (1 thread; 262 us on 2), thesis+svd 408,
+//   linear 189, one_cluster 98.6, linear_one_cluster 78.0; BM_ShapeMatchingHolds free 258 us,
+//   pinned 283 us (1.10x), contact 313 us (1.21x: the held clusters' refits are once a step).
 #include "bench/bench_liver.h"
 #include "bench/thread_cpu_clock.h"
 #include "geometry/mesh_data.h"

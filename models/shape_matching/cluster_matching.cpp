@@ -22,9 +22,9 @@ namespace {
 /// tiny cluster does not span (exact zeros up to round-off) fall under it.
 constexpr double kPseudoInverseCutoff = 1e-9;
 
-/// Linear mode: A / cbrt(det A) only while det A exceeds this (the cluster keeps more than 5% of
-/// its volume); below, the cluster follows R alone, since A / cbrt(det A) grows without bound
-/// as det A -> 0 and has no meaning for det A < 0.
+/// With preserve_volume: A / cbrt(det A) only while det A exceeds this (the cluster keeps more
+/// than 5% of its volume); below, the cluster follows R alone, since A / cbrt(det A) grows
+/// without bound as det A -> 0 and has no meaning for det A < 0.
 constexpr double kMinVolumeRatio = 0.05;
 
 /// Below this many memberships a match runs on one thread: the parallel region costs more than
@@ -44,6 +44,50 @@ constexpr double kHeldLineCutoff = 1e-6;
 /// before the SVD takes over: from the last step's rotation a still or smoothly moving held set
 /// needs none or one or two.
 constexpr int kHeldRotationIterations = 4;
+
+/// The cluster's map T from its deformable fit (3 x D, in the scaled basis: the rigid map of a
+/// scaled offset q / s is s R): beta A + (1 - beta) R (linear) or beta A~ + (1 - beta) [R 0 0]
+/// (quadratic). With preserve_volume, the linear block A is divided by its volume change det A
+/// along the directions the held particles leave free (`held_span` projects onto what they
+/// span; `held_rank` its dimension, 0 for a free cluster): A / cbrt(det A) with none held, the
+/// two directions across a held line, the one across a held plane, none when they span the
+/// space, so that the map still reproduces the held particles. A quadratic fit's quadratic
+/// columns are left as they are: they bend and twist, and their volume change averages out over
+/// the cluster.
+template <int D>
+Eigen::Matrix<double, 3, D> blend_fit(const Eigen::Matrix<double, 3, D>& fit,
+                                      const Eigen::Matrix3d& r,
+                                      double scale,
+                                      const ShapeMatchingParams& params,
+                                      int held_rank,
+                                      const Eigen::Matrix3d& held_span) {
+  Eigen::Matrix<double, 3, D> t = Eigen::Matrix<double, 3, D>::Zero();
+  const double beta = params.beta;
+  const double det = (fit.template leftCols<3>() / scale).determinant();
+  // The free directions are stretched by det^(-1 / free): no more than a free cluster's are at
+  // kMinVolumeRatio (2.7x), or the few free directions of a held cluster would carry its goals
+  // far away (20x across a held plane at det 0.05).
+  const int free = 3 - std::min(held_rank, 3);
+  const double min_det = free == 3 ? kMinVolumeRatio
+                         : free == 2 ? std::pow(kMinVolumeRatio, 2.0 / 3.0)
+                         : free == 1 ? std::cbrt(kMinVolumeRatio)
+                                     : kMinVolumeRatio;
+  if (beta == 0.0 || (params.preserve_volume && det <= min_det)) {
+    t.template leftCols<3>() = scale * r;
+    return t;
+  }
+  t = beta * fit;
+  if (params.preserve_volume && free > 0) {
+    const double free_scale = free == 3   ? 1.0 / std::cbrt(det)
+                              : free == 2 ? 1.0 / std::sqrt(det)
+                                          : 1.0 / det;
+    const Eigen::Matrix3d volume =
+        held_span + free_scale * (Eigen::Matrix3d::Identity() - held_span);
+    t.template leftCols<3>() = (t.template leftCols<3>() * volume).eval();
+  }
+  t.template leftCols<3>() += ((1.0 - beta) * scale) * r;
+  return t;
+}
 
 /// The basis of a scaled rest offset q: q itself (D = 3), or q~ = [qx qy qz qx^2 qy^2 qz^2
 /// qx qy  qy qz  qz qx] (D = 9, the thesis's eq. 3-43 order).
@@ -389,27 +433,12 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   }
   const Eigen::Matrix3d r = rotation.toRotationMatrix();
 
-  // T = beta A + (1 - beta) R (linear) or beta A~ + (1 - beta) [R 0 0] (quadratic), in the
-  // scaled basis: the rigid map of a scaled offset q / s is s R.
-  const double scale = scale_[index(cluster)];
-  const double beta = params_.beta;
   // lazyProduct: a coefficient loop; the default product sends 3 x 9 * 9 x 9 to GEMM.
   const Eigen::Matrix<double, 3, D> fit =
       apq.lazyProduct(Eigen::Map<const Eigen::Matrix<double, D, D>>(moment_inverse_.data()
                                                                     + index(cluster) * D * D));
-  Eigen::Matrix<double, 3, D> t;
-  if constexpr (D == 3) {
-    const Eigen::Matrix3d a = fit / scale;  // the physical A = Apq Aqq^-1
-    const double det = a.determinant();
-    if (beta > 0.0 && det > kMinVolumeRatio) {
-      t = scale * (beta / std::cbrt(det) * a + (1.0 - beta) * r);
-    } else {
-      t = scale * r;
-    }
-  } else {
-    t = beta * fit;
-    t.template leftCols<3>() += ((1.0 - beta) * scale) * r;
-  }
+  const Eigen::Matrix<double, 3, D> t =
+      blend_fit<D>(fit, r, scale_[index(cluster)], params_, 0, Eigen::Matrix3d::Zero());
 
   // Goals g_j = T b_j + c, over the work rows (the offsets are no longer needed).
   goal_row<D>(t.row(0), cx, basis, n, px);
@@ -502,30 +531,9 @@ int ClusterMatcher::match_held(int cluster,
       rigid + offset * held.keep.template block<1, D>(0, 0)
       + deviation.lazyProduct(held.keep.template block<D, D>(1, 0));
 
-  // T as for a free cluster, about the held centre: g = c_H + T (b - b_H). Linear mode keeps
-  // the volume by scaling only the directions the held particles leave free (all three for
-  // one held point, the two across a held line, the one across a held plane; none when they
-  // span the space), so that the map still reproduces them.
-  const double beta = params_.beta;
-  Eigen::Matrix<double, 3, D> t;
-  if constexpr (D == 3) {
-    const Eigen::Matrix3d a = fit / scale;
-    const double det = a.determinant();
-    if (beta > 0.0 && det > kMinVolumeRatio) {
-      const double free_scale = held.rank == 0   ? 1.0 / std::cbrt(det)
-                                : held.rank == 1 ? 1.0 / std::sqrt(det)
-                                : held.rank == 2 ? 1.0 / det
-                                                 : 1.0;
-      const Eigen::Matrix3d volume =
-          held.span + free_scale * (Eigen::Matrix3d::Identity() - held.span);
-      t = scale * (beta * a * volume + (1.0 - beta) * r);
-    } else {
-      t = scale * r;
-    }
-  } else {
-    t = beta * fit;
-    t.template leftCols<3>() += ((1.0 - beta) * scale) * r;
-  }
+  // T as for a free cluster, about the held centre: g = c_H + T (b - b_H), keeping the volume
+  // only in the directions the held particles leave free.
+  const Eigen::Matrix<double, 3, D> t = blend_fit<D>(fit, r, scale, params_, held.rank, held.span);
   const Eigen::Vector3d goal_centre = held_centre - t * held.mean.template head<D>();
   goal_row<D>(t.row(0), goal_centre.x(), basis, n, px);
   goal_row<D>(t.row(1), goal_centre.y(), basis, n, py);

@@ -109,6 +109,7 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
     predicted_.col(vertex) = placed;
     return;
   }
+  // positions_ is the iterate from here on: the pulls move it from x*.
   if (is_penalty(constraint)) {
     // The spring k (target - x) by backward Euler on this particle alone, stable at any dt:
     // (m + dt^2 k) v* = m v + dt (f + k (target - x)).
@@ -120,11 +121,12 @@ void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) 
     velocities_.col(vertex) += (dt / mass) * force;
   }
   predicted_.col(vertex) = positions_.col(vertex) + dt * velocities_.col(vertex);
+  positions_.col(vertex) = predicted_.col(vertex);
 }
 
 void ShapeMatchingModel::pull(int vertex, double dt) {
   const PositionConstraint* constraint = constraints_.of(vertex);
-  const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - predicted_.col(vertex);
+  const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - positions_.col(vertex);
   if (is_exact(constraint)) {
     // Held on its target, it is denied the pull toward its goal that its clusters' fit gave
     // it (a sliding particle only the pull's normal part: it follows the rest in its plane);
@@ -135,7 +137,7 @@ void ShapeMatchingModel::pull(int vertex, double dt) {
     const Eigen::Vector3d free_pull = towards_goal - held * towards_goal;
     squared_residuals_(vertex) = free_pull.squaredNorm();
     velocities_.col(vertex) += (params_.alpha / dt) * free_pull;
-    positions_.col(vertex) = predicted_.col(vertex) + params_.alpha * free_pull;
+    positions_.col(vertex) += params_.alpha * free_pull;
     Eigen::Vector3d denied = held * towards_goal;
     if (matcher_.is_held(vertex)) {
       denied -= matcher_.held_pull(vertex);
@@ -145,7 +147,14 @@ void ShapeMatchingModel::pull(int vertex, double dt) {
   }
   squared_residuals_(vertex) = towards_goal.squaredNorm();
   velocities_.col(vertex) += (params_.alpha / dt) * towards_goal;
-  positions_.col(vertex) = predicted_.col(vertex) + params_.alpha * towards_goal;
+  positions_.col(vertex) += params_.alpha * towards_goal;
+}
+
+void ShapeMatchingModel::finish(int vertex) {
+  const PositionConstraint* constraint = constraints_.of(vertex);
+  if (is_exact(constraint)) {
+    return;  // its reaction was summed over the pulls
+  }
   constraint_forces_.col(vertex) =
       is_penalty(constraint)
           ? Eigen::Vector3d(constraint->stiffness * constraint->gap(positions_.col(vertex)))
@@ -186,13 +195,21 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
     for (int c = 0; c < refits; ++c) {
       matcher_.refit_held(c);
     }
+    for (int pass = 0; pass < params_.iterations; ++pass) {
 #pragma omp for schedule(dynamic, 1)
-    for (int k = 0; k < num_clusters; ++k) {
-      cluster_iterations_[static_cast<std::size_t>(k)] = matcher_.match_cluster(k, predicted_);
+      for (int k = 0; k < num_clusters; ++k) {
+        const auto slot = static_cast<std::size_t>(k);
+        const int taken = matcher_.match_cluster(k, positions_);
+        cluster_iterations_[slot] = pass == 0 ? taken : std::max(cluster_iterations_[slot], taken);
+      }
+#pragma omp for schedule(dynamic, kParticleChunk)
+      for (int v = 0; v < num_vertices_; ++v) {
+        pull(v, dt);
+      }
     }
 #pragma omp for schedule(dynamic, kParticleChunk)
     for (int v = 0; v < num_vertices_; ++v) {
-      pull(v, dt);
+      finish(v);
     }
   }
 

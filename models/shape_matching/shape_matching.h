@@ -38,8 +38,10 @@ namespace softbench {
 //   conserves linear momentum).
 // - q is scaled by the cluster's RMS radius before the fit, and Aqq^-1 is a pseudo-inverse
 //   (eigenvalues below 1e-9 of the largest dropped): flat or tiny clusters stay finite.
-// - Linear mode uses A / cbrt(det A) only while det A > 0.05; a cluster squashed or inverted
-//   beyond that follows R alone until it has recovered (det A -> 0 would blow A up).
+// - With preserve_volume (the default) the linear part A is divided by cbrt(det A) in quadratic
+//   mode as in linear mode (the paper keeps the volume of linear goals only), and only while
+//   det A > 0.05; a cluster squashed or inverted beyond that follows R alone until it has
+//   recovered (det A -> 0 would blow A up).
 //
 // Constraints: an exactly constrained particle is put on its target before the matching (with
 // v = (target - x) / dt), and is not pulled toward its goal. Held fully (pinned, grasped, a
@@ -58,30 +60,40 @@ namespace softbench {
 // constraint is a spring k (target - x) integrated implicitly on its own particle, so it is
 // stable at any dt too.
 //
-// Behaviour worth knowing: there is no damping parameter and no plasticity; the pull itself
-// dissipates (with one cluster a deformation decays by sqrt(1 - alpha (1 - beta)) per step:
-// 0.857 with the thesis's values). The stiffness is per step, not physical: halving dt doubles
-// the pulls per second. Pinned particles anchor only the clusters they belong to; the others
-// hang from those through the particles they share, whose goals are averages: one pull a step
-// per shared particle carries the weight of everything beyond it, so a body hanging from a few
-// pins is still soft. A bar hanging from its pinned end in one cluster keeps its length within
-// 4%; the liver of scenes/liver_gravity.json (7% of its vertices fixed, 15 of its 50 clusters
-// holding some of them), with the thesis's values at dt = 1/60 s, gains up to 144% of its
-// volume as it drops in the first 0.3 s under gravity and swings between about +20% and +100%
-// after (up to +576% when the pins held their clusters only through their share of the mass);
-// once gravity is off it is back within 1% of its rest shape 3 s later (before: still 2% off
-// 13 s later). The softness is the clusters' coupling, not their fits: with rigid goals (beta
-// 0) the liver still gains 57%.
+// Passes (`iterations`): the match and the pull are repeated, each pass from where the last
+// left the particles, and the velocity is the step's whole displacement over dt (one pass is
+// the paper's step). Position-based engines iterate their constraints the same way; here the
+// reason is the clusters' coupling: pinned particles anchor only the clusters they belong to,
+// the others hang from those through the particles they share, whose goals are averages, so a
+// body's weight crosses one cluster overlap per pass. A bar of ten clusters hanging from its
+// top stretches to 7.2x its length with one pass, 2.6x with four, 1.8x with eight (the
+// stretch beyond the length halves with each doubling). The liver of scenes/liver_gravity.json
+// (7% of its vertices fixed, 15 of its 50 clusters holding some of them), with the thesis's
+// alpha and beta at dt = 1/60 s, gains up to 144% of its volume with one pass and no volume
+// kept, 59% with one pass and the volume kept, 8.9% with four passes (the default); it is then
+// back within 1% of its shape 1.3 s after gravity is off. Four passes cost about four single-
+// pass steps.
 //
-// StepStats: `iterations` is the largest number of rotation iterations a cluster took
-// (quaternion extraction; 0 for the SVD; a cluster whose held particles span a plane takes up
-// to 4, whatever rotation_iterations says, before the SVD takes over); `residual` is the RMS of
-// |g_i - x*_i| over the particles not constrained exactly, divided by the rest bounding-box
-// diagonal (how far the body was from its goals before the pull). elastic_energy() is NaN:
+// Behaviour worth knowing: there is no damping parameter and no plasticity; the pull itself
+// dissipates (with one cluster and one pass a deformation decays by sqrt(1 - alpha (1 -
+// beta)) per step: 0.857 with the thesis's values). The stiffness is per step, not physical:
+// halving dt doubles the pulls per second, and so do twice the passes. Nor is it one
+// stiffness: against a reference liver, a shape-matched one that sags as much resists a probe
+// several times harder (its press force comes from the few clusters under the probe, its sag
+// from the chain of clusters to the anchors), so no alpha and beta match both (compare's table
+// B reports what is left). With four passes the thesis's liver hangs about 2 cm lower on
+// average, where the reference's hangs 6 cm lower.
+//
+// StepStats: `iterations` is the largest number of rotation iterations a cluster took in any
+// pass (quaternion extraction; 0 for the SVD; a cluster whose held particles span a plane takes
+// up to 4, whatever rotation_iterations says, before the SVD takes over); `residual` is the RMS
+// of |g_i - x_i| over the particles not constrained exactly, before the last pass's pull,
+// divided by the rest bounding-box diagonal (how far the body still was from its goals). elastic_energy() is NaN:
 // shape matching has no energy.
 // constraint_forces() is m (v' - v) / dt - f_ext at exactly constrained particles (f_ext:
-// gravity and external forces) minus the internal forces on them (the pull the hold denies them
-// and, held fully, their share of their clusters' pulls), and the spring force at
+// gravity and external forces) minus the internal forces on them (the pulls the hold denies
+// them and, held fully, their share of their clusters' pulls, summed over the passes), and the
+// spring force at
 // penalty-constrained ones.
 
 struct ShapeMatchingParams {
@@ -118,6 +130,18 @@ struct ShapeMatchingParams {
   /// The most quaternion iterations per cluster and step (each stops early once the correction
   /// is below 1e-12 rad). More: closer to the exact rotation, dearer.
   int rotation_iterations = 2;
+  /// Whether the goals keep each cluster's volume: the linear part A of the fit divided by
+  /// cbrt(det A) (Mueller 2005's volume conservation for linear goals, applied to the linear
+  /// block of quadratic ones too). Without it a body hanging from a band stretches: the
+  /// clusters' fits take up the stretch as their own shape.
+  bool preserve_volume = true;
+  /// Match-and-pull passes per step, each from where the last left the particles, as position-
+  /// based engines iterate their constraints (1: Mueller 2005's and the thesis's single pull).
+  /// One pull a step moves a particle by a fraction alpha of its goal's offset, and a body's
+  /// weight reaches its anchors only through the clusters' overlaps, one cluster a pass: with
+  /// one pass the thesis's liver hanging from its ligament band gains 59% of its volume (144%
+  /// without preserve_volume), with 4 under 10%. Each pass costs about a single-pass step.
+  int iterations = 4;
   /// Set by `softbench calibrate` (alpha and beta fitted to a reference); null otherwise.
   std::optional<CalibrationRecord> calibrated;
 };

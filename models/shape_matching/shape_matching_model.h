@@ -46,8 +46,8 @@ class ShapeMatchingModel final : public SoftBody {
   double elastic_energy() const override;  ///< NaN: shape matching has no energy
   std::size_t memory_bytes() const override;
 
-  /// For tests and reports: the clusters, and the matcher (its goals are those of the last step,
-  /// computed from the predicted positions).
+  /// For tests and reports: the clusters, and the matcher (its goals are those of the last pass
+  /// of the last step; with one pass, computed from the predicted positions).
   const Clusters& clusters() const { return clusters_; }
   const ClusterMatcher& matcher() const { return matcher_; }
   /// 3 x #V: the predicted positions x* = x + dt v* of the last step, which the goals matched.
@@ -56,8 +56,11 @@ class ShapeMatchingModel final : public SoftBody {
  private:
   /// v* and x* of one particle (or its target, for an exact constraint).
   void predict(int vertex, double dt, const StepInput& input);
-  /// The alpha pull toward the particle's goal, and the integration.
+  /// One alpha pull of the particle toward its goal: moves it and its velocity, and sums the
+  /// reaction of an exact constraint.
   void pull(int vertex, double dt);
+  /// After the last pull: the force of a penalty constraint (0 for a free particle).
+  void finish(int vertex);
 
   ShapeMatchingParams params_;
   int num_vertices_ = 0;
