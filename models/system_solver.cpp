@@ -165,6 +165,7 @@ class PcgIterations {
                   const Eigen::VectorXd& b,
                   Eigen::VectorXd& x,
                   const double* offset,
+                  double energy_floor,
                   double tolerance,
                   int max_iterations,
                   const Preconditioner& precondition) {
@@ -195,7 +196,7 @@ class PcgIterations {
       a.multiply(direction_, product_);
       reference_energy = std::max(0.0, direction_.dot(product_));
     }
-    EnergyErrorEstimate estimate(reference_energy);
+    EnergyErrorEstimate estimate(std::max(reference_energy, energy_floor));
 
     a.multiply(x, product_);
     double residual_norm =
@@ -334,7 +335,8 @@ class ConjugateGradientSolver final : public SystemSolver {
         inverse_diagonal_(3 * v + k) = entry != 0.0 ? 1.0 / entry : 1.0;
       }
     }
-    return iterations_.run(a, b, x, offset, options_.tolerance, options_.max_iterations,
+    return iterations_.run(a, b, x, offset, energy_floor(), options_.tolerance,
+                           options_.max_iterations,
                            [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
                              z = inverse_diagonal_.cwiseProduct(r);
                            });
@@ -375,8 +377,8 @@ class CholeskyPcgSolver final : public SystemSolver {
     const auto precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
       factor_.solve(r, z);
     };
-    SolveReport report =
-        iterations_.run(a, b, x, offset, options_.tolerance, options_.max_iterations, precondition);
+    SolveReport report = iterations_.run(a, b, x, offset, energy_floor(), options_.tolerance,
+                                         options_.max_iterations, precondition);
     if (!report.converged && factorizations == 0) {
       // The old factor no longer preconditions this matrix: refactorise and continue from x.
       if (!refactorize(a)) {
@@ -384,8 +386,8 @@ class CholeskyPcgSolver final : public SystemSolver {
       }
       ++factorizations;
       const int spent = report.iterations;
-      report = iterations_.run(a, b, x, offset, options_.tolerance, options_.max_iterations,
-                               precondition);
+      report = iterations_.run(a, b, x, offset, energy_floor(), options_.tolerance,
+                               options_.max_iterations, precondition);
       report.iterations += spent;
     }
     // The estimate's window (PcgIterations::kErrorDelay) is the stopping rule's cost, not the

@@ -59,6 +59,8 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
       tets_(mesh.tets()),
       masses_(lumped_masses(mesh, material.density)),
       rest_positions_(mesh.rest_positions()),
+      total_mass_(masses_.sum()),
+      rest_size_(bounding_box_diagonal(rest_positions_)),
       constraints_(mesh.num_vertices()) {
   const auto num_elements = static_cast<std::size_t>(num_elements_);
   elements_.reserve(num_elements);

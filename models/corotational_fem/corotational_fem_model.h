@@ -105,6 +105,8 @@ class CorotationalFemModel final : public SoftBody {
   Eigen::Matrix4Xi tets_;
   Eigen::VectorXd masses_;
   Eigen::Matrix3Xd rest_positions_;
+  double total_mass_ = 0.0;  ///< kg, and the rest bounding-box diagonal (m): the iterative
+  double rest_size_ = 0.0;   ///< solve's floor at rest (resting_energy())
   std::vector<TetRest> elements_;
   /// sqrt(V) [b1 b2 b3] per element: w_a = R times these (w_0 = -(w_1 + w_2 + w_3)).
   std::vector<Eigen::Matrix3d> scaled_gradients_;

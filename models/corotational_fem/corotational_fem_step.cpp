@@ -2,8 +2,8 @@
 // One step of the corotational FEM: rotations, element terms, gather into the fixed pattern,
 // exact constraints by elimination, one linear solve, update and reactions.
 #include "models/corotational_fem/corotational_fem_model.h"
-#include "models/phase_clock.h"
 #include "models/corotational_fem/polar_decomposition.h"
+#include "models/phase_clock.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -117,8 +117,7 @@ void CorotationalFemModel::assemble(double mass_coefficient,
       // A spring k H (target - x), H the held directions: its stiffness k H adds dt^2 k H to A
       // and -dt^2 k H v to b.
       block += (dt * dt * constraint->stiffness) * constraint->held;
-      force += constraint->stiffness
-               * constraint->gap(positions_.col(v) + dt * velocities_.col(v));
+      force += constraint->stiffness * constraint->gap(positions_.col(v) + dt * velocities_.col(v));
     }
     pattern_->set(pattern_->vertex_block(v), block);
     rhs_.segment<3>(3 * v) = rhs + dt * force;
@@ -167,6 +166,7 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
   eliminate_exact_constraints(dt);
   clock.lap(&PhaseTimes::assembly);
 
+  solver_->set_energy_floor(resting_energy(total_mass_, rest_size_, dt));
   const SolveReport report =
       solver_->solve(*pattern_, rhs_, velocity_change_, elimination_.in_frame(velocities_));
   elimination_.to_world(velocity_change_);

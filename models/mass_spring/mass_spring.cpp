@@ -58,6 +58,8 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh,
       springs_(unique_edges(mesh.tets())),  // sorted, as SpringSystem needs them
       masses_(lumped_masses(mesh, material.density)),
       rest_positions_(mesh.rest_positions()),
+      total_mass_(masses_.sum()),
+      rest_size_(bounding_box_diagonal(rest_positions_)),
       system_(mesh.num_vertices(), springs_),
       constraints_(mesh.num_vertices()) {
   const Eigen::Index num_springs = springs_.cols();

@@ -98,6 +98,8 @@ class MassSpringModel final : public SoftBody {
   Eigen::VectorXd spring_damping_;  ///< damping + rayleigh_stiffness * k_e
   Eigen::VectorXd masses_;
   Eigen::Matrix3Xd rest_positions_;
+  double total_mass_ = 0.0;  ///< kg, and the rest bounding-box diagonal (m): the iterative
+  double rest_size_ = 0.0;   ///< solve's floor at rest (resting_energy())
   // The system's springs and vertex blocks, and the springs incident to each vertex (CSR):
   // per-vertex gathers need no atomics, so a parallel loop sums in a fixed order and results
   // do not depend on the thread count.

@@ -244,6 +244,7 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input, Phas
   if (pattern_ != nullptr) {
     report = solve_cholmod();  // its matrix assembly is timed with the solve
   } else {
+    system_.set_energy_floor(resting_energy(total_mass_, rest_size_, dt));
     report =
         system_.solve(rhs_, known_changes_, velocity_change_, velocities_,
                       preconditioner_of(params_), params_.cg_tolerance, params_.cg_max_iterations);

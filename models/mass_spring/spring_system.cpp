@@ -360,6 +360,7 @@ SolveReport SpringSystem::solve(const Eigen::VectorXd& b,
     reference_energy += (held_[k] * offset.col(c) + known_.segment<3>(3 * c)).squaredNorm();
   }
 
+  reference_energy = std::max(reference_energy, energy_floor_);
   report = preconditioner == Preconditioner::kSsor
                ? solve_ssor(tolerance, max_iterations, reference_energy)
                : solve_block_jacobi(tolerance, max_iterations, reference_energy);

@@ -115,6 +115,9 @@ class SpringSystem {
                     int max_iterations);
   /// Drops the solutions kept for the warm start (made for other velocities).
   void forget_solutions() { history_count_ = 0; }
+  /// The least energy the stopping rule measures the error against, whatever the offset
+  /// (resting_energy(); 0: none, the default).
+  void set_energy_floor(double energy) { energy_floor_ = energy; }
 
   /// How many past solutions the warm start combines. Measured on the liver (defaults, at the
   /// default tolerance): iterations per step 15.3 / 10.5 / 8.0 / 6.4 / 6.2 with 1 to 5 of them,
@@ -189,6 +192,7 @@ class SpringSystem {
   int history_count_ = 0;
   std::array<Eigen::VectorXd, kHistory> basis_;
   std::array<Eigen::VectorXd, kHistory> basis_products_;
+  double energy_floor_ = 0.0;  ///< set_energy_floor()
 };
 
 }  // namespace softbench::mass_spring
