@@ -1,18 +1,23 @@
 // SPDX-License-Identifier: MIT
 // Ctrl-C and SIGTERM (a batch system's time limit) stop a command between two steps, not in the
 // middle of writing a file: the handler only raises a flag, every simulation loop checks it once
-// a step, and the command ends with one line and status 130, leaving what it had written whole
-// (files are written to a temporary and renamed) and nothing half-written.
+// a step, and the command ends with one line and status 130. `softbench run` writes what it
+// measured up to the stop, marked interrupted; a command that compares or fits runs writes
+// nothing of the unfinished work. Output folders land whole or not at all (StagedFolder).
 #pragma once
 
 #include <stdexcept>
+#include <string>
 
 namespace softbench::harness {
 
 /// Thrown by check_interrupted() once a stop was asked for.
 class Interrupted : public std::runtime_error {
  public:
-  Interrupted() : std::runtime_error("interrupted") {}
+  /// `what`: what became of the command's results, for the one line the command ends with.
+  explicit Interrupted(const std::string& what =
+                           "stopped between two steps; the unfinished results were not written")
+      : std::runtime_error(what) {}
 };
 
 /// SIGINT and SIGTERM raise the flag; a second signal ends the process at once (the handler is

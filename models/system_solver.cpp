@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "models/system_solver.h"
 
+#include "models/blas_threads.h"
+
 #include <cholmod.h>
 
 #include <algorithm>
@@ -22,6 +24,7 @@ using SparseMatrix = Eigen::SparseMatrix<double>;
 class CholmodFactor {
  public:
   CholmodFactor(const SparseMatrix& pattern, bool supernodal) {
+    pin_blas_threads();  // the same bits at any thread count
     cholmod_start(&common_);
     common_.print = 0;  // failures are reported through SolveReport, not stderr
     common_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;

@@ -5,6 +5,7 @@
 #include "harness/compare/comparison.h"
 #include "harness/report/comparison_plots.h"
 #include "harness/report/comparison_report.h"
+#include "harness/report/staged_folder.h"
 #include "scenes/scene.h"
 #include "scenes/shipped_data.h"
 
@@ -58,15 +59,20 @@ void compare(const CompareArguments& arguments) {
   options.progress = &std::cerr;
   options.live_progress = live_progress();
   options.matched = !arguments.thesis_only;
-  const fs::path out_dir = out_dir_or(arguments.out_dir, "out/compare");
-  check_writable_file(out_dir / "compare.json", "--out");
+  // The folder lands whole (tables and plots) once everything is written, or not at all.
+  StagedFolder out(out_dir_or(arguments.out_dir, "out/compare"), "--out");
   const Comparison comparison = run_comparison(scenes, options);
 
-  write_comparison(out_dir, comparison);
-  std::cout << comparison_markdown(comparison) << "\nwrote " << (out_dir / "compare.md").string()
-            << " and " << (out_dir / "compare.json").string() << "\n";
+  write_comparison(out.path(), comparison);
+  PlotOutcome plots;
   if (!arguments.no_plots) {
-    print_plot_outcome(plot_comparison(out_dir));
+    plots = landed(plot_comparison(out.path()), out);
+  }
+  out.commit();
+  std::cout << comparison_markdown(comparison) << "\nwrote " << (out.path() / "compare.md").string()
+            << " and " << (out.path() / "compare.json").string() << "\n";
+  if (!arguments.no_plots) {
+    print_plot_outcome(plots);
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

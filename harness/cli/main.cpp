@@ -22,7 +22,7 @@ int main(int argc, char** argv) {
   using namespace softbench::harness;
   for (auto add : {add_run_command, add_compare_command, add_sweep_command, add_merge_command,
                    add_recommend_command, add_stability_command, add_calibrate_command,
-                   add_verify_command, add_models_command, add_mesh_command}) {
+                   add_verify_command, add_soak_command, add_models_command, add_mesh_command}) {
     add(app);
   }
   install_interrupt_handlers();
@@ -36,9 +36,8 @@ int main(int argc, char** argv) {
     // at 100, which scripts would take for a crash).
     std::cerr << "softbench: error: " << error.what() << " (see --help)\n";
     return 2;
-  } catch (const Interrupted&) {
-    std::cerr << "softbench: interrupted: stopped between two steps; the unfinished results "
-                 "were not written\n";
+  } catch (const Interrupted& interrupted) {
+    std::cerr << "softbench: interrupted: " << interrupted.what() << "\n";
     return 130;
   } catch (const softbench::InputError& error) {
     std::cerr << "softbench: error: " << error.what() << "\n";

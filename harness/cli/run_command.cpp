@@ -2,7 +2,9 @@
 // `softbench run SCENE [--model NAME ...] [--out DIR] [--mesh PATH] [--frames-every N]`.
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
+#include "harness/interrupt.h"
 #include "harness/report/run_report.h"
+#include "harness/report/staged_folder.h"
 #include "harness/run/reference.h"
 #include "harness/run/runner.h"
 
@@ -24,13 +26,15 @@ struct RunArguments {
 
 void run(const RunArguments& arguments) {
   const scenes::Scene scene = load_scene_with_mesh(arguments.scene, arguments.mesh);
-  const std::filesystem::path out_dir =
-      out_dir_or(arguments.out_dir, std::filesystem::path("out") / folder_name(scene.name));
+  // The folder lands whole once every file is written, or not at all.
+  StagedFolder out(
+      out_dir_or(arguments.out_dir, std::filesystem::path("out") / folder_name(scene.name)),
+      "--out");
   const SceneMesh mesh = read_scene_mesh(scene);
   RunOptions options;
   options.models = arguments.models;
   options.frames_every = arguments.frames_every;
-  options.frames_dir = out_dir / "frames";
+  options.frames_dir = out.path() / "frames";
   options.progress = &std::cerr;
   options.live_progress = live_progress();
   // Only a scene that asks for an accuracy gets a reference run (cached under out/reference).
@@ -39,8 +43,12 @@ void run(const RunArguments& arguments) {
   if (measure_accuracy) {
     options.snapshot_times = comparison_times(scene, reference_settings.times);
   }
+  // Ctrl-C or SIGTERM ends the run after the current step; what was measured is written,
+  // marked interrupted, and the command still ends with status 130.
+  options.keep_interrupted = true;
   std::vector<ModelRun> runs = run_scene(scene, mesh, options);
-  if (measure_accuracy) {
+  const bool interrupted = !runs.empty() && runs.back().timing.interrupted;
+  if (measure_accuracy && !interrupted) {
     const ReferenceRun reference =
         reference_run(scene, mesh, reference_settings, std::filesystem::path("out") / "reference");
     for (ModelRun& run : runs) {
@@ -48,9 +56,15 @@ void run(const RunArguments& arguments) {
                                       mesh.body.rest_positions());
     }
   }
-  write_reports(out_dir, scene, runs);
-  std::cout << summary_markdown(scene, runs) << "\nwrote " << (out_dir / "metrics.json").string()
-            << " and " << (out_dir / "summary.md").string() << "\n";
+  write_reports(out.path(), scene, runs);
+  out.commit();
+  std::cout << summary_markdown(scene, runs) << "\nwrote " << (out.path() / "metrics.json").string()
+            << " and " << (out.path() / "summary.md").string() << "\n";
+  if (interrupted) {
+    throw Interrupted("stopped after step " + std::to_string(runs.back().timing.steps_run)
+                      + " of " + runs.back().model + "; what was measured is in "
+                      + (out.path() / "metrics.json").string() + ", marked interrupted");
+  }
 }
 
 }  // namespace

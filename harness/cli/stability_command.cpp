@@ -4,6 +4,7 @@
 #include "harness/cli/commands.h"
 #include "harness/report/python_plot.h"
 #include "harness/report/stability_report.h"
+#include "harness/report/staged_folder.h"
 #include "harness/stability/stability.h"
 #include "scenes/scene.h"
 
@@ -29,8 +30,9 @@ struct StabilityArguments {
 
 void stability(const StabilityArguments& arguments) {
   const scenes::Scene scene = scenes::load_scene(arguments.scene);
-  const std::filesystem::path out_dir =
-      out_dir_or(arguments.out_dir, std::filesystem::path("out") / folder_name(scene.name + "_stability"));
+  StagedFolder out(out_dir_or(arguments.out_dir, std::filesystem::path("out")
+                                                     / folder_name(scene.name + "_stability")),
+                   "--out");
   StabilityOptions options;
   options.models = arguments.models;
   options.settings = arguments.quick ? quick_stability_settings() : default_stability_settings();
@@ -42,12 +44,18 @@ void stability(const StabilityArguments& arguments) {
   }
   options.progress = &std::cerr;
   const StabilityReport report = run_stability(scene, options);
-  write_stability(out_dir, report);
-  std::cout << stability_markdown(report) << "\nwrote " << (out_dir / "stability.md").string()
-            << " and " << (out_dir / "stability.json").string() << "\n";
+  write_stability(out.path(), report);
+  PlotOutcome plots;
   if (!arguments.no_plots) {
-    print_plot_outcome(run_plot_script("plot_stability.py", "SOFTBENCH_STABILITY_SCRIPT",
-                                       out_dir / "stability.json", out_dir));
+    plots = landed(run_plot_script("plot_stability.py", "SOFTBENCH_STABILITY_SCRIPT",
+                                   out.path() / "stability.json", out.path()),
+                   out);
+  }
+  out.commit();
+  std::cout << stability_markdown(report) << "\nwrote " << (out.path() / "stability.md").string()
+            << " and " << (out.path() / "stability.json").string() << "\n";
+  if (!arguments.no_plots) {
+    print_plot_outcome(plots);
   }
   std::cerr << "stability took " << std::fixed << std::setprecision(1) << report.wall_seconds
             << " s\n";

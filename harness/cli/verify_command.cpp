@@ -2,6 +2,7 @@
 // `softbench verify`: the analytic verification cases, a table of errors per model.
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
+#include "harness/report/staged_folder.h"
 #include "harness/report/verify_report.h"
 #include "harness/verify/verify.h"
 
@@ -23,17 +24,17 @@ struct VerifyArguments {
 };
 
 void verify(const VerifyArguments& arguments) {
-  const std::filesystem::path out_dir =
-      out_dir_or(arguments.out_dir, std::filesystem::path("out") / "verify");
+  StagedFolder out(out_dir_or(arguments.out_dir, std::filesystem::path("out") / "verify"), "--out");
   VerifyOptions options;
   options.models = arguments.models;
   options.cases = arguments.cases;
   options.settings = arguments.quick ? quick_verify_settings() : default_verify_settings();
   options.progress = &std::cerr;
   const VerifyReport report = run_verify(options);
-  write_verify(out_dir, report);
-  std::cout << verify_markdown(report) << "\nwrote " << (out_dir / "verify.md").string()
-            << " and " << (out_dir / "verify.json").string() << "\n";
+  write_verify(out.path(), report);
+  out.commit();
+  std::cout << verify_markdown(report) << "\nwrote " << (out.path() / "verify.md").string()
+            << " and " << (out.path() / "verify.json").string() << "\n";
   std::cerr << "verify took " << std::fixed << std::setprecision(1) << report.wall_seconds
             << " s\n";
 }

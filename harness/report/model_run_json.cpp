@@ -93,6 +93,7 @@ nlohmann::json to_json(const ModelRun& run) {
   const TimingMetrics& timing = run.timing;
   json["timing"] = {{"steps_planned", timing.steps_planned},
                     {"steps_run", timing.steps_run},
+                    {"interrupted", timing.interrupted},
                     {"step_ms", percentiles_json(timing.step_ms)},
                     {"steps_per_second", timing.steps_per_second},
                     {"step_with_collision_ms", percentiles_json(timing.step_with_collision_ms)},
@@ -163,6 +164,7 @@ ModelRun model_run_from_json(const JsonReader& in) {
   const JsonReader timing = in.object("timing");
   run.timing.steps_planned = timing.integer("steps_planned", 0, kMaxCount);
   run.timing.steps_run = timing.integer("steps_run", 0, kMaxCount);
+  run.timing.interrupted = timing.boolean_or("interrupted", false);
   run.timing.step_ms = read_percentiles(timing.object("step_ms"));
   run.timing.steps_per_second = timing.number("steps_per_second");
   run.timing.step_with_collision_ms = read_percentiles(timing.object("step_with_collision_ms"));

@@ -178,4 +178,11 @@ void print_plot_outcome(const PlotOutcome& outcome) {
   }
 }
 
+PlotOutcome landed(PlotOutcome outcome, const StagedFolder& folder) {
+  for (std::filesystem::path& file : outcome.files) {
+    file = folder.landed(file);
+  }
+  return outcome;
+}
+
 }  // namespace softbench::harness

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "harness/report/staged_folder.h"
+
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -41,5 +43,9 @@ PlotOutcome run_plot_script(const std::string& script_name,
 /// What the commands print of an outcome: "wrote FILE" per plot on stdout, or the reason for no
 /// plots as a warning on stderr.
 void print_plot_outcome(const PlotOutcome& outcome);
+
+/// The outcome of plots written into `folder` before it was committed, with the files where
+/// they land.
+PlotOutcome landed(PlotOutcome outcome, const StagedFolder& folder);
 
 }  // namespace softbench::harness

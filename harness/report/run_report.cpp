@@ -64,6 +64,10 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
         << (run.stability.stable ? "yes"
                                  : "NO (step " + std::to_string(*run.stability.diverged_at_step)
                                        + ": " + run.stability.divergence + ")")
+        << (run.timing.interrupted ? " (interrupted after step "
+                                         + std::to_string(run.timing.steps_run) + " of "
+                                         + std::to_string(run.timing.steps_planned) + ")"
+                                   : "")
         << " | " << fixed(run.timing.steps_per_second, 0) << " | "
         << fixed(run.timing.steps_per_second_with_collision, 0) << " | "
         << fixed(run.timing.step_ms.median, 3) << " / " << fixed(run.timing.step_ms.p95, 3) << " / "

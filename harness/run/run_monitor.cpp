@@ -19,7 +19,15 @@ bool RunMonitor::after_step(int step,
                             const StepStats& stats,
                             const SoftBody& body,
                             std::span<const PositionConstraint> held) {
-  check_interrupted();  // every simulation loop judges each step here: a stop lands between steps
+  const bool within_limits = judge(step, stats, body, held);
+  check_interrupted();
+  return within_limits;
+}
+
+bool RunMonitor::judge(int step,
+                       const StepStats& stats,
+                       const SoftBody& body,
+                       std::span<const PositionConstraint> held) {
   if (divergence_) {
     return false;
   }

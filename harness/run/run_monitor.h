@@ -35,7 +35,8 @@ class RunMonitor {
   RunMonitor(const TetMesh& mesh, const scenes::StabilityLimits& limits, double diagonal);
 
   /// Judges the body after step `step` with the constraints it was given (`held`); false once
-  /// the run has diverged.
+  /// the run has diverged. Then, the step judged, throws Interrupted if a stop was asked for:
+  /// every simulation loop calls this once a step, so a stop lands between two steps.
   bool after_step(int step,
                   const StepStats& stats,
                   const SoftBody& body,
@@ -49,6 +50,10 @@ class RunMonitor {
   double diagonal() const { return diagonal_; }
 
  private:
+  bool judge(int step,
+             const StepStats& stats,
+             const SoftBody& body,
+             std::span<const PositionConstraint> held);
   bool fail(int step, std::string reason, bool non_finite);
 
   const TetMesh& mesh_;

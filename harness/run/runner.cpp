@@ -6,6 +6,8 @@
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
 #include "geometry/shape_meshes.h"
+#include "harness/interrupt.h"
+#include "harness/run/decimated_series.h"
 #include "harness/run/loaded_travel.h"
 #include "harness/run/plausibility.h"
 #include "harness/run/run_monitor.h"
@@ -40,12 +42,28 @@ void write_frame(const RunOptions& options,
   write_vtu(dir / name.str(), MeshData{body.positions(), {}, mesh.tets(), model}, fields);
 }
 
-double steps_per_second(const std::vector<double>& step_ms) {
-  double total_ms = 0.0;
-  for (double ms : step_ms) {
-    total_ms += ms;
+/// One timing of every step, for its percentiles (an even subsample past kSeriesCapacity
+/// steps) and its rate (over every timed step).
+class StepTimes {
+ public:
+  void add(double ms) {
+    kept_.offer(ms);
+    total_ms_ += ms;
   }
-  return total_ms > 0.0 ? 1000.0 * static_cast<double>(step_ms.size()) / total_ms : 0.0;
+  Percentiles percentiles() const { return harness::percentiles(kept_.values()); }
+  double steps_per_second() const {
+    return total_ms_ > 0.0 ? 1000.0 * static_cast<double>(kept_.offered()) / total_ms_ : 0.0;
+  }
+
+ private:
+  DecimatedSeries<double> kept_{kSeriesCapacity};
+  double total_ms_ = 0.0;
+};
+
+/// Of two samples, the one a thinned series keeps: the larger tool force, so the force curve
+/// keeps its peaks (and the force read after a withdrawal is not thinned away).
+bool larger_force(const StepSample& a, const StepSample& b) {
+  return a.tool_force > b.tool_force;
 }
 
 /// Accumulates one model's metrics step by step (ModelRun's groups).
@@ -56,16 +74,11 @@ class RunRecorder {
         run_(run),
         rest_volume_(mesh_volume(mesh.body)),
         masses_(lumped_masses(mesh.body, scene.material.density)),
-        travel_(scene, mesh) {
-    const auto planned = static_cast<std::size_t>(run.timing.steps_planned);
-    step_ms_.reserve(planned);
-    step_with_collision_ms_.reserve(planned);
-    run.samples.reserve(planned);
-  }
+        travel_(scene, mesh) {}
 
   void time(double step_ms, double step_with_collision_ms) {
-    step_ms_.push_back(step_ms);
-    step_with_collision_ms_.push_back(step_with_collision_ms);
+    step_ms_.add(step_ms);
+    step_with_collision_ms_.add(step_with_collision_ms);
   }
 
   void solver(const StepStats& stats) {
@@ -97,15 +110,16 @@ class RunRecorder {
     if (stepper.have_reference() && stepper.recovery().released()) {
       sample.recovery_residual = stepper.recovery().residual();
     }
-    run_.samples.push_back(sample);
+    samples_.offer(sample, larger_force);
   }
 
   void finish(const SoftBody& body, const SceneStepper& stepper) {
     TimingMetrics& timing = run_.timing;
-    timing.step_ms = percentiles(step_ms_);
-    timing.steps_per_second = steps_per_second(step_ms_);
-    timing.step_with_collision_ms = percentiles(step_with_collision_ms_);
-    timing.steps_per_second_with_collision = steps_per_second(step_with_collision_ms_);
+    timing.step_ms = step_ms_.percentiles();
+    timing.steps_per_second = step_ms_.steps_per_second();
+    timing.step_with_collision_ms = step_with_collision_ms_.percentiles();
+    timing.steps_per_second_with_collision = step_with_collision_ms_.steps_per_second();
+    run_.samples = std::move(samples_).take();
     const Loading& loading = stepper.loading();
     run_.contact.max_penetration = loading.max_penetration();
     run_.contact.max_penetration_pressing = loading.max_penetration_pressing();
@@ -127,8 +141,9 @@ class RunRecorder {
   double rest_volume_;
   Eigen::VectorXd masses_;
   LoadedTravel travel_;
-  std::vector<double> step_ms_;
-  std::vector<double> step_with_collision_ms_;
+  StepTimes step_ms_;
+  StepTimes step_with_collision_ms_;
+  DecimatedSeries<StepSample> samples_{kSeriesCapacity};
   double total_iterations_ = 0.0;
 };
 
@@ -138,6 +153,7 @@ void print_outcome(const RunOptions& options, const ModelRun& run) {
   }
   *options.progress << (options.live_progress ? "\r" : "") << run.model << ": "
                     << run.timing.steps_run << "/" << run.timing.steps_planned << " steps, "
+                    << (run.timing.interrupted ? "interrupted, " : "")
                     << (run.stability.stable
                             ? "stable"
                             : "UNSTABLE at step " + std::to_string(*run.stability.diverged_at_step))
@@ -180,7 +196,18 @@ ModelRun run_model(const scenes::Scene& scene,
     }
     run.timing.steps_run = step + 1;
     recorder.solver(stats);
-    if (!monitor.after_step(step, stats, *body, stepper.constraints())) {
+    bool within_limits = true;
+    try {
+      within_limits = monitor.after_step(step, stats, *body, stepper.constraints());
+    } catch (const Interrupted&) {
+      if (!options.keep_interrupted) {
+        throw;
+      }
+      // The step ran and was judged; the run ends after it, measured as far as it went.
+      run.timing.interrupted = true;
+      within_limits = !monitor.diverged();
+    }
+    if (!within_limits) {
       run.stability.stable = false;
       run.stability.diverged_at_step = monitor.divergence()->step;
       run.stability.divergence = monitor.divergence()->reason;
@@ -196,6 +223,9 @@ ModelRun run_model(const scenes::Scene& scene,
     }
     if (options.frames_every > 0 && step % options.frames_every == 0) {
       write_frame(options, model_name, step, mesh.body, *body);
+    }
+    if (run.timing.interrupted) {
+      break;
     }
     if (options.progress != nullptr && options.live_progress && step % 30 == 0) {
       *options.progress << "\r" << model_name << ": step " << step + 1 << "/"
@@ -240,6 +270,9 @@ std::vector<ModelRun> run_scene(const scenes::Scene& scene,
   std::vector<ModelRun> runs;
   for (const std::string& name : names) {
     runs.push_back(run_model(scene, mesh, name, options));
+    if (runs.back().timing.interrupted) {
+      break;  // a stop was asked for: the models after it do not run
+    }
   }
   return runs;
 }

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstddef>
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -27,7 +28,18 @@ struct RunOptions {
   /// s: scene times at which to keep the body's positions (ModelRun::snapshots), e.g. to compare
   /// against a reference run; each is taken at the end of the first step ending at or after it.
   std::vector<double> snapshot_times;
+  /// On a stop asked for (Ctrl-C, SIGTERM): false, run_scene throws Interrupted and nothing of
+  /// the unfinished run is kept; true, the model's run ends after the current step, is returned
+  /// with TimingMetrics::interrupted set (its measures cover the steps run), and no further
+  /// model runs. Only a command that writes each run as it is (softbench run) keeps it: one that
+  /// compares or fits runs would take a part for the whole.
+  bool keep_interrupted = false;
 };
+
+/// How many values of each per-step series (StepSample, step times) a run keeps: every step of
+/// a run up to this many, an even thinning of a longer one (DecimatedSeries), so that memory
+/// and metrics.json stay bounded whatever the scene's duration.
+inline constexpr std::size_t kSeriesCapacity = std::size_t{1} << 16;
 
 /// One step of a run, recorded for the curves (force-displacement, recovery over time).
 struct StepSample {
@@ -47,6 +59,8 @@ struct StepSample {
 struct TimingMetrics {
   int steps_planned = 0;
   int steps_run = 0;
+  /// Stopped by Ctrl-C or SIGTERM after steps_run steps (RunOptions::keep_interrupted).
+  bool interrupted = false;
   Percentiles step_ms;
   double steps_per_second = 0.0;  ///< timed steps per second of step() time
   Percentiles step_with_collision_ms;
@@ -130,7 +144,9 @@ struct ModelRun {
   /// What is physically implausible in a run that stayed within the scene's limits
   /// (judge_plausibility, filled by run_scene); empty for a plausible or a diverged run.
   std::vector<Warning> warnings;
-  std::vector<StepSample> samples;  ///< one per step run
+  /// One per step run, up to kSeriesCapacity steps; of a longer run, one per block of 2, 4, ...
+  /// steps (the block's largest tool force), spanning the whole run.
+  std::vector<StepSample> samples;
   std::vector<Snapshot> snapshots;  ///< at RunOptions::snapshot_times reached before a blow-up
 };
 

@@ -30,14 +30,16 @@ class RunnerTest : public ::testing::Test {
     write_msh(dir_.path() / "bar.msh", test::box_tets(5, 1, 1, 0.1, 0.02, 0.02));
   }
 
-  scenes::Scene scene(const std::string& models_block, double dt = 1.0 / 60.0) const {
+  scenes::Scene scene(const std::string& models_block,
+                      double dt = 1.0 / 60.0,
+                      double duration = 3.0) const {
     const std::string text = R"({
       "name": "bar_sag",
       "mesh": "bar.msh",
       "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
       "gravity": {"acceleration": [0, 0, -9.81], "off_at": 0.5},
       "time": {"dt": )" + std::to_string(dt)
-                             + R"(, "duration": 3.0},
+                             + R"(, "duration": )" + std::to_string(duration) + R"(},
       "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
       "models": )" + models_block
                              + "}";
@@ -129,6 +131,48 @@ TEST_F(RunnerTest, StopsBetweenStepsWhenAStopIsAskedFor) {
   EXPECT_THROW(run_scene(scene("{}"), options), Interrupted);
   clear_interrupt();
   EXPECT_TRUE(run_scene(scene("{}"), options).front().stability.stable);
+}
+
+// softbench run keeps what was measured up to the stop: the model's run ends after the step
+// it was in, marked interrupted, and the models after it do not run.
+TEST_F(RunnerTest, KeepsAnInterruptedRunMarkedAndRunsNoFurtherModel) {
+  RunOptions options;
+  options.models = {"corotational_fem", "mass_spring"};
+  options.keep_interrupted = true;
+  request_interrupt();
+  const std::vector<ModelRun> runs = run_scene(scene("{}"), options);
+  clear_interrupt();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].model, "corotational_fem");
+  EXPECT_TRUE(runs[0].timing.interrupted);
+  EXPECT_EQ(runs[0].timing.steps_run, 1);
+  EXPECT_EQ(runs[0].samples.size(), 1u);
+  EXPECT_TRUE(runs[0].stability.stable);
+  const nlohmann::json json = to_json(runs[0]);
+  EXPECT_EQ(json["timing"]["interrupted"], true);
+  EXPECT_TRUE(model_run_from_json(JsonReader(json, "metrics.json", "")).timing.interrupted);
+}
+
+// A long run's per-step series stay bounded (memory and metrics.json): every step up to
+// kSeriesCapacity, then an even thinning that still spans the whole run and keeps the peaks.
+TEST_F(RunnerTest, ALongRunsSeriesStayBoundedAndSpanTheRun) {
+  RunOptions options;
+  options.models = {"mass_spring"};
+  const double dt = 1.0 / 1000.0;
+  const double duration = 70.0;  // 70,000 steps (past kSeriesCapacity) on a 30-tet bar: 2 s
+  const scenes::Scene bar = scene("{}", dt, duration);
+  const ModelRun run = run_scene(bar, options).front();
+  ASSERT_EQ(run.timing.steps_run, 70000);
+  EXPECT_LE(run.samples.size(), kSeriesCapacity);
+  EXPECT_GE(run.samples.size(), kSeriesCapacity / 2);
+  EXPECT_NEAR(run.samples.front().time, dt, 4 * dt);
+  EXPECT_NEAR(run.samples.back().time, duration, 4 * dt);
+  for (std::size_t i = 1; i < run.samples.size(); ++i) {
+    ASSERT_GT(run.samples[i].time, run.samples[i - 1].time);
+    ASSERT_LE(run.samples[i].time - run.samples[i - 1].time, 4.5 * dt);  // stride 2, a peak apart
+  }
+  EXPECT_GT(run.timing.steps_per_second, 0.0);
+  EXPECT_LE(run.timing.step_ms.median, run.timing.step_ms.max);
 }
 
 TEST_F(RunnerTest, WritesMetricsWithEveryDocumentedField) {

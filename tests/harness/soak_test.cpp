@@ -1,0 +1,104 @@
+// SPDX-License-Identifier: MIT
+// The soak: cycles of the scene's loading, the body carried on; memory, energy and shape drift
+// per cycle, a blow-up reported and ending the soak.
+#include "harness/soak/soak.h"
+
+#include "geometry/input_error.h"
+#include "geometry/mesh_io.h"
+#include "harness/report/soak_report.h"
+#include "scenes/scene.h"
+#include "tests/test_meshes.h"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace softbench::harness {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A 10 x 2 x 2 cm bar clamped at x = 0 that sags under gravity for 0.5 s and springs back with
+// gravity off for the rest of its 1.5 s cycle: a damped cycle that ends where it began.
+class SoakTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    write_msh(dir_.path() / "bar.msh", test::box_tets(5, 1, 1, 0.1, 0.02, 0.02));
+  }
+  scenes::Scene scene(const std::string& models_block,
+                      double dt = 1.0 / 60.0,
+                      double duration = 1.5) const {
+    const std::string text = R"({
+      "name": "bar_cycle",
+      "mesh": "bar.msh",
+      "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
+      "gravity": {"acceleration": [0, 0, -9.81], "off_at": 0.5},
+      "time": {"dt": )" + std::to_string(dt) + R"(, "duration": )"
+                       + std::to_string(duration) + R"(},
+      "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
+      "models": )" + models_block + "}";
+    return scenes::load_scene(dir_.write("bar_cycle.json", text));
+  }
+  test::TempDir dir_;
+};
+
+TEST_F(SoakTest, CyclesTheSceneAndComesBackToTheSameStateEachCycle) {
+  const scenes::Scene bar =
+      scene(R"({"corotational_fem": {"rayleigh_mass": 5.0}})");
+  SoakOptions options;
+  options.model = "corotational_fem";
+  options.steps = 90 * 30 + 45;  // 30 whole cycles of 90 steps and half of one
+  SoakReport report = run_soak(bar, read_scene_mesh(bar), options);
+  EXPECT_TRUE(report.stable) << report.divergence;
+  EXPECT_EQ(report.steps_run, options.steps);
+  EXPECT_EQ(report.steps_per_cycle, 90);
+  ASSERT_EQ(report.cycles.size(), 31u);
+  EXPECT_EQ(report.cycles.back().steps, options.steps);
+  // Each cycle ends recovered: the end states agree to well within 0.1% of the diagonal, and the
+  // energy at the end of each whole cycle is the first's (damped, with gravity off, near zero).
+  for (std::size_t i = 0; i + 1 < report.cycles.size(); ++i) {
+    EXPECT_LT(report.cycles[i].shape_drift, 1e-3) << "cycle " << i + 1;
+  }
+  EXPECT_GT(report.cycles.front().resident_bytes, 0u);
+  EXPECT_GE(report.peak_resident, report.resident_at_end);
+  EXPECT_GT(report.speed_ratio, 0.0);
+  const nlohmann::json json = soak_json(report);
+  EXPECT_EQ(json["cycles"].size(), 31u);
+  EXPECT_TRUE(json["summary"].contains("energy_drift"));
+  EXPECT_THAT(soak_markdown(report), HasSubstr("resident memory after warm-up"));
+}
+
+TEST_F(SoakTest, ReportsABlowUpAndStops) {
+  // Symplectic Euler at dt = 1/30 with stiff thesis springs blows up within a few steps.
+  const scenes::Scene bar = scene(
+      R"({"mass_spring": {"integrator": "symplectic_euler", "stiffness_from": "given",
+                          "stiffness": 180, "damping": 5}})",
+      1.0 / 30.0);
+  SoakOptions options;
+  options.model = "mass_spring";
+  options.steps = 100000;
+  const SoakReport report = run_soak(bar, read_scene_mesh(bar), options);
+  EXPECT_FALSE(report.stable);
+  ASSERT_TRUE(report.diverged_at_step.has_value());
+  EXPECT_LT(report.steps_run, options.steps);
+  EXPECT_EQ(report.steps_run, *report.diverged_at_step + 1);
+  EXPECT_THAT(soak_markdown(report), HasSubstr("UNSTABLE at step"));
+}
+
+TEST_F(SoakTest, KeepsABoundedNumberOfCycles) {
+  // Cycles of two steps: 3,000 of them in 6,000 steps.
+  const scenes::Scene bar = scene("{}", 1.0 / 60.0, 2.0 / 60.0);
+  SoakOptions options;
+  options.model = "mass_spring";
+  options.steps = 2LL * 3000;
+  const SoakReport report = run_soak(bar, read_scene_mesh(bar), options);
+  EXPECT_TRUE(report.stable) << report.divergence;
+  EXPECT_LE(report.cycles.size(), 1024u);
+  EXPECT_GE(report.cycles.size(), 512u);
+  EXPECT_EQ(report.cycles.front().cycle, 1);
+  EXPECT_GT(report.cycles.back().cycle, 2900);
+}
+
+}  // namespace
+}  // namespace softbench::harness
