@@ -27,9 +27,6 @@ constexpr double kPseudoInverseCutoff = 1e-9;
 /// without bound as det A -> 0 and has no meaning for det A < 0.
 constexpr double kMinVolumeRatio = 0.05;
 
-/// Below this many memberships a match runs on one thread: the parallel region costs more than
-/// it saves.
-constexpr int kParallelMemberships = 2048;
 
 /// Held particles whose linear rest moment about their centre (in the scaled basis, per unit
 /// of their weight) stays below this are at one point: 1e-6 of the cluster's RMS radius apart
@@ -791,7 +788,7 @@ int ClusterMatcher::match(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd& g
   const int particles = num_particles();
   goals.resize(3, particles);
   int iterations = 0;
-  [[maybe_unused]] const bool parallel = num_memberships() >= kParallelMemberships;
+  [[maybe_unused]] const bool parallel = worth_parallel();
 #pragma omp parallel if (parallel)
   {
 #pragma omp for schedule(dynamic, 1) reduction(max : iterations)

@@ -16,9 +16,6 @@ namespace softbench {
 namespace shape_matching {
 namespace {
 
-/// Below this many memberships a step runs on one thread: starting a parallel region costs more
-/// than it saves.
-constexpr int kParallelMemberships = 2048;
 /// Particles per chunk of a parallel per-particle loop: a few microseconds of work each.
 [[maybe_unused]] constexpr int kParticleChunk = 256;
 
@@ -180,7 +177,7 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   // Only the clusters whose held set changed since the last step are refitted.
   const int refits = matcher_.hold_changes(kinematic_);
   const int num_clusters = matcher_.num_clusters();
-  [[maybe_unused]] const bool parallel = matcher_.num_memberships() >= kParallelMemberships;
+  [[maybe_unused]] const bool parallel = matcher_.worth_parallel();
   // Dynamic schedules: cluster sizes differ (73 to 142 particles on the liver), and on a shared
   // machine a thread held up by another process does not hold back a fixed share. Each cluster
   // and particle is computed the same whichever thread takes it, and the per-particle gathers

@@ -1008,13 +1008,17 @@ TEST(ShapeMatchingHeld, AGraspStretchingTheBoxFeelsItsTension) {
 // ---------------------------------------------------------------------------------------------
 // Determinism, stats, state
 
+// Enough clusters on the big box for a step to be worth a parallel region (450 clusters of about
+// 96 particles: 43,000 memberships).
+constexpr int kParallelClusters = 450;
+
 TEST(ShapeMatching, GivesTheSameResultOnOneAndTwoThreads) {
   const std::vector<PositionConstraint> pins = pin_min_x_face(big_box());
   StepInput input;
   input.constraints = pins;
   const auto run = [&](int threads) {
     omp_set_num_threads(threads);
-    const auto body = make_shape_matching(big_box(), kMaterial, thesis(50));
+    const auto body = make_shape_matching(big_box(), kMaterial, thesis(kParallelClusters));
     place_at_rest(*body, random_in_bounding_box(big_box(), 3));
     for (int step = 0; step < 30; ++step) {
       body->step(kDt, input);
@@ -1028,11 +1032,14 @@ TEST(ShapeMatching, GivesTheSameResultOnOneAndTwoThreads) {
   EXPECT_EQ(one, two);  // bit for bit
 }
 
-TEST(ShapeMatching, ThesisClustersOnTheBigBoxAreLargeEnoughToRunInParallel) {
+TEST(ShapeMatching, ManyClustersOnTheBigBoxRunInParallelAndTheThesisLiverSizeDoesNot) {
   // Guards the determinism test above: it must exercise the parallel path.
-  const auto body = make_shape_matching(big_box(), kMaterial, thesis(50));
-  const auto& model = dynamic_cast<const ShapeMatchingModel&>(*body);
-  EXPECT_GE(model.matcher().num_memberships(), 2048);
+  const auto many = make_shape_matching(big_box(), kMaterial, thesis(kParallelClusters));
+  EXPECT_TRUE(dynamic_cast<const ShapeMatchingModel&>(*many).matcher().worth_parallel());
+  // The thesis's 50 clusters on a body this size: too little work to split (see
+  // ClusterMatcher::worth_parallel).
+  const auto few = make_shape_matching(big_box(), kMaterial, thesis(50));
+  EXPECT_FALSE(dynamic_cast<const ShapeMatchingModel&>(*few).matcher().worth_parallel());
 }
 
 TEST(ShapeMatching, ReportsRotationIterationsAndTheResidual) {
