@@ -26,6 +26,13 @@ struct PositionConstraint {
   double stiffness = kExact;  ///< kExact: enforce exactly; finite: a penalty spring, N/m
   /// An orthogonal projector onto the held directions (symmetric, idempotent, rank 1 to 3).
   Eigen::Matrix3d held = Eigen::Matrix3d::Identity();
+  /// Whether the hold anchors the body (the fixed region, a grasp: held where the scene puts it,
+  /// step after step) or only keeps it out of the way this step (the instrument's contact, which
+  /// comes and goes and whose corners are held only so a triangle stays under a tool's point).
+  /// A model that fits clusters treats an anchoring full hold as an infinite mass in the fit;
+  /// a contact hold takes part with its own mass, or a few held corners near a probe's tip would
+  /// set the rotation of a whole cluster. Models that solve for positions need not care.
+  bool anchors = true;
 
   /// The projector of a constraint held along `normal` (any length but zero) only.
   static Eigen::Matrix3d along(const Eigen::Vector3d& normal) {

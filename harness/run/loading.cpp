@@ -140,7 +140,8 @@ void Loading::add_contact_targets() {
     // Frictionless: held along the contact normal only, free to slide along the instrument.
     constraints_.push_back({target.vertex, target.target, kExact,
                             target.slides ? PositionConstraint::along(target.push)
-                                          : Eigen::Matrix3d(Eigen::Matrix3d::Identity())});
+                                          : Eigen::Matrix3d(Eigen::Matrix3d::Identity()),
+                            /*anchors=*/false});
   }
   for (std::size_t k = 0; k < held_constraints_; ++k) {
     held_[static_cast<std::size_t>(constraints_[k].vertex)] = 0;

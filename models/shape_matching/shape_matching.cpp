@@ -170,7 +170,8 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   // it the normal part of its pull (its force), and its clusters follow it by its share.
   kinematic_.clear();
   for (const int vertex : constraints_.exact_vertices()) {
-    if (!constraints_.of(vertex)->slides()) {
+    const PositionConstraint* constraint = constraints_.of(vertex);
+    if (!constraint->slides() && constraint->anchors) {
       kinematic_.push_back(vertex);  // within the reserved capacity
     }
   }

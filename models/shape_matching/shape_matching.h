@@ -44,13 +44,19 @@ namespace softbench {
 //   recovered (det A -> 0 would blow A up).
 //
 // Constraints: an exactly constrained particle is put on its target before the matching (with
-// v = (target - x) / dt), and is not pulled toward its goal. Held fully (pinned, grasped, a
-// corner of a triangle the instrument pushes), it is kinematic in every cluster it belongs to:
+// v = (target - x) / dt), and is not pulled toward its goal. Held fully by a hold that anchors
+// the body (PositionConstraint::anchors: pinned, grasped), it is kinematic in every cluster it
+// belongs to:
 // infinite mass in the fit, in the limit (cluster_matching.h). The held particles of a cluster
 // give it its centre and, as far as they span it, its rotation; the fitted deformation is the
 // rest of the cluster's, relative to that placement and vanishing at them. So they anchor their
 // clusters: a cluster's goal for a held particle is the particle itself whenever the held set
-// moved rigidly (one held particle always). Held along a normal only (a frictionless contact or
+// moved rigidly (one held particle always). A contact's full hold (the corners of a triangle
+// kept under a tool's point) does not anchor: held on its target all the same, it takes part in
+// the fits with its own mass; as anchors, a few corners near a probe's tip set the rotations of
+// whole clusters, and the four passes a step carried that error through the body (the thesis's
+// liver under the probe: 178% volume change and 2,061 tets inverted as anchors, 8.9% and none
+// stuck but one without). Held along a normal only (a frictionless contact or
 // support, slid onto its plane), it keeps its mass in the fit: infinite mass would pin its
 // clusters along the plane too, and the hold denies it only the normal part of its pull. The
 // reaction on a fully held particle includes its share of what its clusters' pulls toward their

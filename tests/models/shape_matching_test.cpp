@@ -938,6 +938,24 @@ TEST(ShapeMatchingHeld, ABodyHoldingReleasingAndHoldingAgainStepsAsAFreshOne) {
   EXPECT_TRUE(changed->constraint_forces().isApprox(fresh->constraint_forces(), 1e-9));
 }
 
+TEST(ShapeMatchingHeld, OnlyAnchoringFullHoldsAreKinematicInTheFits) {
+  // A pin or a grasp anchors its clusters; a contact's full hold (a triangle's corner kept under
+  // a tool's point, anchors = false) is held on its target all the same but takes part in the
+  // fits with its own mass, so a few corners near a probe's tip do not set whole clusters'
+  // rotations.
+  const int corner = 0;
+  for (const bool anchors : {true, false}) {
+    const auto body = make_shape_matching(box(), kMaterial, thesis(8, 48));
+    const Eigen::Vector3d target = box().rest_positions().col(corner) + Eigen::Vector3d(0, 0, 1e-3);
+    const std::vector<PositionConstraint> holds = {
+        {corner, target, kExact, Eigen::Matrix3d::Identity(), anchors}};
+    ASSERT_TRUE(body->step(kDt, no_gravity(holds)).finite);
+    const auto& model = dynamic_cast<const ShapeMatchingModel&>(*body);
+    EXPECT_EQ(model.matcher().is_held(corner), anchors);
+    EXPECT_EQ(body->positions().col(corner), target);  // held exactly either way
+  }
+}
+
 TEST(ShapeMatchingHeld, ASlidingHoldDoesNotAnchorWhatItLeavesFree) {
   // The box on a frictionless floor (its z = 0 face held along z only), no gravity, its top
   // face pushed along x: the floor takes no force along x, so the box slides, its floor
