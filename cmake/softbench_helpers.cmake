@@ -9,13 +9,16 @@ function(softbench_add_library name)
                         PRIVATE softbench::warnings ${ARG_PRIVATE_LINK})
 endfunction()
 
-# softbench_add_test(NAME SOURCES... LINK ...): one GoogleTest executable, tests discovered by ctest.
+# softbench_add_test(NAME SOURCES... LINK ...): one GoogleTest executable, tests discovered by ctest
+# and labelled with the executable's name (ctest -L models_test runs one executable's tests; the
+# sanitizer job picks its executables so).
 function(softbench_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench_test_support GTest::gmock GTest::gtest_main
                         softbench::warnings)
-  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60
+                       PROPERTIES LABELS ${name})
 endfunction()
 
 # softbench_add_bench(NAME SOURCES... LINK ...): one Google Benchmark executable, its JSON

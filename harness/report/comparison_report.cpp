@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/comparison_report.h"
 
-#include "geometry/atomic_file.h"
+#include "harness/report/report_files.h"
 #include "geometry/input_error.h"
 #include "harness/provenance.h"
 #include "harness/report/model_run_json.h"
@@ -368,11 +368,8 @@ std::string comparison_markdown(const Comparison& comparison) {
 }
 
 void write_comparison(const std::filesystem::path& out_dir, const Comparison& comparison) {
-  std::filesystem::create_directories(out_dir);
-  const std::string json = comparison_json(comparison).dump(1) + "\n";
-  write_file_atomically(out_dir / "compare.json", [&](std::ostream& out) { out << json; });
-  const std::string markdown = comparison_markdown(comparison);
-  write_file_atomically(out_dir / "compare.md", [&](std::ostream& out) { out << markdown; });
+  write_report_files(out_dir, {{"compare.json", comparison_json(comparison).dump(1) + "\n"},
+                               {"compare.md", comparison_markdown(comparison)}});
 }
 
 }  // namespace softbench::harness

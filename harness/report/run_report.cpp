@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/run_report.h"
 
-#include "geometry/atomic_file.h"
+#include "harness/report/report_files.h"
 #include "harness/provenance.h"
 #include "harness/report/model_run_json.h"
 
@@ -89,11 +89,8 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
 void write_reports(const std::filesystem::path& out_dir,
                    const scenes::Scene& scene,
                    const std::vector<ModelRun>& runs) {
-  std::filesystem::create_directories(out_dir);
-  const std::string metrics = metrics_json(scene, runs).dump(2) + "\n";
-  write_file_atomically(out_dir / "metrics.json", [&](std::ostream& out) { out << metrics; });
-  const std::string summary = summary_markdown(scene, runs);
-  write_file_atomically(out_dir / "summary.md", [&](std::ostream& out) { out << summary; });
+  write_report_files(out_dir, {{"metrics.json", metrics_json(scene, runs).dump(2) + "\n"},
+                               {"summary.md", summary_markdown(scene, runs)}});
 }
 
 }  // namespace softbench::harness

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/soak_report.h"
 
-#include "geometry/atomic_file.h"
+#include "harness/report/report_files.h"
 #include "harness/format.h"
 #include "harness/provenance.h"
 
@@ -106,11 +106,8 @@ std::string soak_markdown(const SoakReport& report) {
 }
 
 void write_soak(const std::filesystem::path& out_dir, const SoakReport& report) {
-  const std::string json = soak_json(report).dump(2) + "\n";
-  const std::string markdown = soak_markdown(report);
-  std::filesystem::create_directories(out_dir);
-  write_file_atomically(out_dir / "soak.json", [&](std::ostream& out) { out << json; });
-  write_file_atomically(out_dir / "soak.md", [&](std::ostream& out) { out << markdown; });
+  write_report_files(out_dir, {{"soak.json", soak_json(report).dump(2) + "\n"},
+                               {"soak.md", soak_markdown(report)}});
 }
 
 }  // namespace softbench::harness

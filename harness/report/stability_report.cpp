@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/stability_report.h"
 
-#include "geometry/atomic_file.h"
+#include "harness/report/report_files.h"
 #include "harness/provenance.h"
 #include "harness/report/run_report.h"
 #include "harness/run/plausibility.h"
@@ -272,11 +272,8 @@ std::string stability_markdown(const StabilityReport& report) {
 }
 
 void write_stability(const std::filesystem::path& out_dir, const StabilityReport& report) {
-  std::filesystem::create_directories(out_dir);
-  const std::string json = stability_json(report).dump(2) + "\n";
-  write_file_atomically(out_dir / "stability.json", [&](std::ostream& out) { out << json; });
-  const std::string markdown = stability_markdown(report);
-  write_file_atomically(out_dir / "stability.md", [&](std::ostream& out) { out << markdown; });
+  write_report_files(out_dir, {{"stability.json", stability_json(report).dump(2) + "\n"},
+                               {"stability.md", stability_markdown(report)}});
 }
 
 }  // namespace softbench::harness

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/verify_report.h"
 
-#include "geometry/atomic_file.h"
+#include "harness/report/report_files.h"
 #include "harness/format.h"
 #include "harness/provenance.h"
 #include "harness/verify/verify_tolerances.h"
@@ -238,11 +238,8 @@ std::string verify_markdown(const VerifyReport& report) {
 }
 
 void write_verify(const std::filesystem::path& out_dir, const VerifyReport& report) {
-  const std::string json = verify_json(report).dump(2) + "\n";
-  const std::string markdown = verify_markdown(report);
-  std::filesystem::create_directories(out_dir);
-  write_file_atomically(out_dir / "verify.json", [&](std::ostream& out) { out << json; });
-  write_file_atomically(out_dir / "verify.md", [&](std::ostream& out) { out << markdown; });
+  write_report_files(out_dir, {{"verify.json", verify_json(report).dump(2) + "\n"},
+                               {"verify.md", verify_markdown(report)}});
 }
 
 }  // namespace softbench::harness

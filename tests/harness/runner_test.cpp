@@ -8,6 +8,7 @@
 #include "harness/report/run_report.h"
 #include "models/json_reader.h"
 #include "scenes/scene.h"
+#include "tests/harness/bar_sag_scene.h"
 #include "tests/test_meshes.h"
 #include "models/json_file.h"
 
@@ -21,30 +22,13 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// A 10 x 2 x 2 cm bar clamped at x = 0, stiff enough (50 kPa) that edge springs alone bring it
-// back (a softer one folds, which mass-spring cannot undo), sagging under gravity for 0.5 s, then
-// released: gravity off.
+// The bar of bar_sag_scene.h.
 class RunnerTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    write_msh(dir_.path() / "bar.msh", test::box_tets(5, 1, 1, 0.1, 0.02, 0.02));
-  }
-
   scenes::Scene scene(const std::string& models_block,
                       double dt = 1.0 / 60.0,
                       double duration = 3.0) const {
-    const std::string text = R"({
-      "name": "bar_sag",
-      "mesh": "bar.msh",
-      "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
-      "gravity": {"acceleration": [0, 0, -9.81], "off_at": 0.5},
-      "time": {"dt": )" + std::to_string(dt)
-                             + R"(, "duration": )" + std::to_string(duration) + R"(},
-      "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
-      "models": )" + models_block
-                             + "}";
-    const auto path = dir_.write("bar_sag.json", text);
-    return scenes::load_scene(path);
+    return test_scenes::bar_sag(dir_, models_block, dt, duration);
   }
 
   test::TempDir dir_;

@@ -4,9 +4,9 @@
 #include "harness/soak/soak.h"
 
 #include "geometry/input_error.h"
-#include "geometry/mesh_io.h"
 #include "harness/report/soak_report.h"
 #include "scenes/scene.h"
+#include "tests/harness/bar_sag_scene.h"
 #include "tests/test_meshes.h"
 
 #include <gmock/gmock.h>
@@ -19,26 +19,14 @@ namespace {
 
 using ::testing::HasSubstr;
 
-// A 10 x 2 x 2 cm bar clamped at x = 0 that sags under gravity for 0.5 s and springs back with
-// gravity off for the rest of its 1.5 s cycle: a damped cycle that ends where it began.
+// The bar of bar_sag_scene.h in cycles of 1.5 s by default: it sags under gravity for 0.5 s
+// and springs back with gravity off for the rest, a damped cycle that ends where it began.
 class SoakTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    write_msh(dir_.path() / "bar.msh", test::box_tets(5, 1, 1, 0.1, 0.02, 0.02));
-  }
   scenes::Scene scene(const std::string& models_block,
                       double dt = 1.0 / 60.0,
                       double duration = 1.5) const {
-    const std::string text = R"({
-      "name": "bar_cycle",
-      "mesh": "bar.msh",
-      "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
-      "gravity": {"acceleration": [0, 0, -9.81], "off_at": 0.5},
-      "time": {"dt": )" + std::to_string(dt) + R"(, "duration": )"
-                       + std::to_string(duration) + R"(},
-      "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
-      "models": )" + models_block + "}";
-    return scenes::load_scene(dir_.write("bar_cycle.json", text));
+    return test_scenes::bar_sag(dir_, models_block, dt, duration);
   }
   test::TempDir dir_;
 };
