@@ -68,7 +68,8 @@ class ObjReader {
       text_.fail("face index 0 is invalid (OBJ indices start at 1)");
     }
     if (index < 0) {
-      if (-index > vertices_so_far) {
+      // Compared without negating: -index overflows for the smallest int64.
+      if (index < -static_cast<std::int64_t>(vertices_so_far)) {
         text_.fail(concat("relative face index ", index, " reaches before the first vertex (",
                           vertices_so_far, " vertices so far)"));
       }

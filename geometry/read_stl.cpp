@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "geometry/byte_order.h"
 #include "geometry/mesh_io.h"
+#include "geometry/text_format.h"
 #include "geometry/text_tokenizer.h"
 #include "geometry/weld_vertices.h"
 
@@ -8,6 +9,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -104,6 +106,9 @@ std::vector<double> read_ascii_corners(std::string bytes, const std::string& fil
   std::vector<double> corners;
   expect_statement(text, "solid");
   int facet = 0;
+  // Binary floats cannot spread far enough to matter; ASCII doubles can (1e308 and -1e308).
+  Eigen::Vector3d lowest = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d highest = -lowest;
   while (true) {
     const TextLine line = text.expect_line("'facet normal' or 'endsolid'");
     if (line[0] == "endsolid") {
@@ -125,8 +130,19 @@ std::vector<double> read_ascii_corners(std::string bytes, const std::string& fil
     for (int k = 0; k < 3; ++k) {
       const TextLine vertex = expect_statement(text, "vertex");
       text.require_tokens(vertex, 4, "vertex x y z");
-      for (std::size_t axis = 1; axis <= 3; ++axis) {
-        corners.push_back(text.parse_coordinate(vertex[axis], "facet", facet));
+      Eigen::Vector3d corner;
+      for (int axis = 0; axis < 3; ++axis) {
+        corner(axis) = text.parse_coordinate(vertex[static_cast<std::size_t>(axis) + 1], "facet",
+                                             facet);
+        corners.push_back(corner(axis));
+      }
+      lowest = lowest.cwiseMin(corner);
+      highest = highest.cwiseMax(corner);
+      if (!std::isfinite((highest - lowest).squaredNorm())) {
+        text.fail(concat("facet ", facet, " has a vertex too far from the others (",
+                         format_vector(corner),
+                         "): welding squares the vertices' bounding-box diagonal, which would "
+                         "overflow a double"));
       }
     }
     expect_statement(text, "endloop");

@@ -15,7 +15,8 @@ struct WeldedVertices {
 /// Merges points closer than `relative_tolerance` times the diagonal of their bounding box (>= 0;
 /// 0 merges exact duplicates only) into the first such point seen, as a triangle soup (STL) needs
 /// to become a mesh. A hash grid of cells at least the tolerance wide keeps this O(n): only the
-/// 27 cells around a point can hold a partner.
+/// 27 cells around a point can hold a partner. The squared diagonal must be a finite double
+/// (read_stl refuses points spread further).
 WeldedVertices weld_vertices(const Eigen::Ref<const Eigen::Matrix3Xd>& points,
                              double relative_tolerance);
 

@@ -150,8 +150,10 @@ Json read_json_file(const fs::path& path, std::string_view what) {
   }
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  return parse_json_text(buffer.str(), name);
+}
 
+Json parse_json_text(const std::string& text, const std::string& name) {
   Json result;
   BoundedDomBuilder builder(result);
   if (Json::sax_parse(text, &builder, Json::input_format_t::json, /*strict=*/true,

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 namespace softbench {
@@ -25,5 +26,8 @@ inline constexpr int kMaxJsonDepth = 64;
 ///   `<path>: /description: nested deeper than 64 levels of arrays and objects (the limit)`
 nlohmann::json read_json_file(const std::filesystem::path& path,
                               std::string_view what = "JSON file");
+
+/// The same parse of JSON text read elsewhere; `name` stands for the file in the messages.
+nlohmann::json parse_json_text(const std::string& text, const std::string& name);
 
 }  // namespace softbench

@@ -250,7 +250,9 @@ Eigen::Quaterniond read_rotation(const JsonReader& key) {
   if (axis.stableNorm() == 0.0) {
     in.fail_expected("axis", "a non-zero vector");
   }
-  const double degrees = in.number("degrees");
+  // Whole turns dropped first (fmod is exact): 1e308 degrees times pi overflowed to an infinite
+  // angle, a NaN orientation.
+  const double degrees = std::fmod(in.number("degrees"), 360.0);
   return Eigen::Quaterniond(
       Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.stableNormalized()));
 }

@@ -582,7 +582,8 @@ void ClusterMatcher::refit_held_with(int cluster, HeldCluster& held) {
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxFit, kMaxFit>;
   using Range = Eigen::Matrix<double, F, Eigen::Dynamic, 0, F, kMaxFit>;
   [[maybe_unused]] const auto [begin, n, particle, weight, basis, work] = slices(cluster);
-  const auto basis_of = [&](int j) {
+  // Captured by name: clang before 16 cannot capture a structured binding.
+  const auto basis_of = [basis = basis, n = n](int j) {
     Eigen::Matrix<double, D, 1> b;
     for (int d = 0; d < D; ++d) {
       b(d) = basis[d * n + j];

@@ -126,6 +126,15 @@ TEST(ReadObj, RejectsRelativeIndexBeforeTheFirstVertex) {
                                "vertex (3 vertices so far)"));
 }
 
+// Found by fuzz_obj: the smallest int64 was negated to compare it (undefined behaviour).
+TEST(ReadObj, RejectsTheSmallestRelativeIndex) {
+  TempDir dir;
+  const auto path = dir.write("min.obj", "v 0 0 0\nf 1 1 -9223372036854775808\n");
+  EXPECT_THAT([&] { read_obj(path); },
+              ThrowsInputError("min.obj: line 2: relative face index -9223372036854775808 reaches "
+                               "before the first vertex (1 vertices so far)"));
+}
+
 TEST(ReadObj, RejectsNanCoordinate) {
   TempDir dir;
   const auto path = dir.write("x.obj", "# comment\nv 0 0 0\nv 1 nan 0\n");

@@ -193,6 +193,19 @@ TEST(ReadStl, RejectsNanInAscii) {
               ThrowsInputError("nan.stl: line 5: facet 1 has a non-finite coordinate (nan)"));
 }
 
+// Found while fuzzing read_stl: the welding's bounding-box diagonal overflowed to infinity and
+// a cell coordinate became NaN, cast to an integer (undefined behaviour).
+TEST(ReadStl, RejectsAsciiVerticesSpreadBeyondADouble) {
+  TempDir dir;
+  const auto path = dir.write("far.stl",
+                              "solid t\nfacet normal 0 0 1\nouter loop\nvertex -1e308 0 0\n"
+                              "vertex 1e308 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n");
+  EXPECT_THAT([&] { read_stl(path); },
+              ThrowsInputError("far.stl: line 5: facet 1 has a vertex too far from the others "
+                               "([1e+308, 0, 0]): welding squares the vertices' bounding-box "
+                               "diagonal, which would overflow a double"));
+}
+
 TEST(ReadStl, RejectsAFileShorterThanTheBinaryHeader) {
   TempDir dir;
   const auto path = dir.write("tiny.stl", random_bytes(17, 20));

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 #include <string>
 
 namespace softbench::scenes {
@@ -524,6 +525,24 @@ TEST_F(SceneLoader, ARotationAxisOfAnyFiniteLengthIsItsDirection) {
     EXPECT_TRUE((scene.instrument->path[0].orientation * Eigen::Vector3d::UnitX())
                     .isApprox(Eigen::Vector3d::UnitY(), 1e-15))
         << axis;
+  }
+}
+
+// Found by fuzz_scene: 1e308 degrees times pi overflowed to an infinite angle; the scene loaded
+// with a NaN orientation, and its echo did not load.
+TEST_F(SceneLoader, ARotationOfAnyFiniteDegreesIsAFiniteRotation) {
+  const double whole_turns = std::ldexp(360.0, 1015);  // 1.26e308, a multiple of 360 exactly
+  for (const double degrees : {whole_turns, -whole_turns}) {
+    std::ostringstream patch;
+    patch.precision(17);
+    patch << R"({"instrument": {"mesh": "tool.obj", "path": [
+                {"t": 0, "position": [0, 0, 1], "rotation": {"axis": [0, 0, 1], "degrees": )"
+          << degrees << "}}]}}";
+    const Scene scene = load(patch.str());
+    EXPECT_TRUE((scene.instrument->path[0].orientation * Eigen::Vector3d::UnitX())
+                    .isApprox(Eigen::Vector3d::UnitX(), 1e-15))
+        << degrees;
+    expect_same_scene(parse_scene(to_json(scene), scene.source), scene);
   }
 }
 
