@@ -2,6 +2,7 @@
 #include "models/json_file.h"
 
 #include "geometry/input_error.h"
+#include "geometry/text_format.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -32,13 +33,13 @@ std::string line_and_column(const std::string& text, std::size_t offset) {
   return "line " + std::to_string(line) + ", column " + std::to_string(offset - line_start + 1);
 }
 
-// One JSON pointer token (RFC 6901: '~' and '/' escaped).
+// One JSON pointer token (RFC 6901: '~' and '/' escaped), on one line.
 std::string pointer_token(const std::string& key) {
   std::string token;
   for (const char c : key) {
     token += c == '~' ? std::string("~0") : c == '/' ? std::string("~1") : std::string(1, c);
   }
-  return token;
+  return one_line(token);
 }
 
 // Builds the document as nlohmann's own DOM parser does, but refuses to open a container

@@ -59,7 +59,7 @@ bool JsonReader::has(std::string_view key) const {
 }
 
 std::string JsonReader::pointer_to(std::string_view key) const {
-  return pointer_ + "/" + std::string(key);
+  return pointer_ + "/" + one_line(key);  // a key may hold a line break ("a\nb")
 }
 
 void JsonReader::fail(std::string_view key, std::string_view message) const {

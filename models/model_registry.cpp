@@ -2,6 +2,7 @@
 #include "models/model_registry.h"
 
 #include "geometry/input_error.h"
+#include "geometry/text_format.h"
 
 #include <stdexcept>
 
@@ -25,7 +26,7 @@ bool ModelRegistry::unavailable(std::string_view name) const {
 const ModelInfo& ModelRegistry::at(std::string_view name) const {
   const auto found = models_.find(name);
   if (const auto left_out = unavailable_.find(name); left_out != unavailable_.end()) {
-    throw InputError("model \"" + std::string(name) + "\" is not in this build (" + left_out->second
+    throw InputError("model \"" + one_line(name) + "\" is not in this build (" + left_out->second
                      + ")");
   }
   if (found == models_.end()) {
@@ -33,7 +34,7 @@ const ModelInfo& ModelRegistry::at(std::string_view name) const {
     for (const auto& [key, info] : models_) {
       known += (known.empty() ? "" : ", ") + key;
     }
-    throw InputError("unknown model \"" + std::string(name) + "\" (known: " + known + ")");
+    throw InputError("unknown model \"" + one_line(name) + "\" (known: " + known + ")");
   }
   return found->second;
 }

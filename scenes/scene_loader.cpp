@@ -68,7 +68,7 @@ fs::path existing_file(const JsonReader& in, std::string_view key, const fs::pat
   const fs::path resolved = (folder / written).lexically_normal();
   std::error_code error;
   if (!fs::is_regular_file(resolved, error)) {
-    in.fail(key, "file not found: " + resolved.string());
+    in.fail(key, "file not found: " + one_line(resolved.string()));
   }
   return resolved;
 }

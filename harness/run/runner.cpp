@@ -6,6 +6,7 @@
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
 #include "geometry/shape_meshes.h"
+#include "geometry/text_format.h"
 #include "harness/interrupt.h"
 #include "harness/run/decimated_series.h"
 #include "harness/run/loaded_travel.h"
@@ -261,7 +262,8 @@ std::vector<ModelRun> run_scene(const scenes::Scene& scene,
       try {
         builtin_models().at(name);
       } catch (const InputError& error) {
-        throw InputError(scene.source.string() + ": /models/" + name + ": " + error.what());
+        throw InputError(scene.source.string() + ": /models/" + one_line(name) + ": "
+                         + error.what());
       }
     }
     builtin_models().at(name).create(one_cube, scene.material, block,

@@ -96,7 +96,14 @@ inline Eigen::Matrix3Xd jitter(const Eigen::Matrix3Xd& positions,
 
 inline Eigen::Matrix3d random_rotation(std::mt19937& rng) {
   std::normal_distribution<double> normal;
-  Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
+  // One draw a statement: the order a compiler evaluates a call's arguments in is unspecified
+  // (GCC's last to first, which these draws keep; clang's first to last), and the tests' scenes
+  // must not change with the compiler.
+  const double z = normal(rng);
+  const double y = normal(rng);
+  const double x = normal(rng);
+  const double w = normal(rng);
+  Eigen::Quaterniond q(w, x, y, z);
   return q.normalized().toRotationMatrix();
 }
 

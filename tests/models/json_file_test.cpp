@@ -48,6 +48,15 @@ TEST(ReadJsonFile, AcceptsTheDepthLimitAndRejectsOneLevelMore) {
                                        "objects (the limit)");
 }
 
+// Found by fuzz_scene (the same line break in a key): the pointer stays on one line.
+TEST(ReadJsonFile, NamesAKeyWithALineBreakOnOneLine) {
+  const test::TempDir dir;
+  const auto over = dir.write("over.json", R"({"a\nb": )" + nested_arrays(kMaxJsonDepth) + "}");
+  EXPECT_EQ(error_reading(over), over.string()
+                                     + ": /a\\nb: nested deeper than 64 levels of arrays and "
+                                       "objects (the limit)");
+}
+
 TEST(ReadJsonFile, NamesTheFileForEveryFailure) {
   const test::TempDir dir;
   const auto broken = dir.write("broken.json", "{\n  \"a\": }\n");

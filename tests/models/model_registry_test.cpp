@@ -69,6 +69,17 @@ TEST(ModelRegistry, AnUnknownNameListsTheKnownOnes) {
   }
 }
 
+// Found by fuzz_model_params: a scene's model name with a line break ("fem\n9000") was quoted
+// as it was, breaking the message's line.
+TEST(ModelRegistry, QuotesAnUnknownNameOnOneLine) {
+  try {
+    builtin_models().at("fem\n9000");
+    FAIL();
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), ::testing::StartsWith("unknown model \"fem\\n9000\" (known: "));
+  }
+}
+
 TEST(ModelRegistry, RefusesToRegisterANameTwice) {
   ModelRegistry registry;
   ModelInfo first;

@@ -378,6 +378,17 @@ TEST_F(SceneLoader, RejectsAnUnknownKeyInAKeyframe) {
       "/grasp/path/0/ofset: unknown key (known here: offset, t)");
 }
 
+// Found by fuzz_scene: a key holding a line break ("instrume\nt") put the break in the message,
+// which the CLI must print on one line.
+TEST_F(SceneLoader, NamesAKeyWithALineBreakOnOneLine) {
+  EXPECT_EQ(error_for(R"({"instrume\nt": {}})"),
+            "/instrume\\nt: unknown key (known here: description, fixed, grasp, gravity, "
+            "initial_velocity, instrument, limits, material, mesh, models, name, requirements, "
+            "supports, time)");
+  EXPECT_EQ(error_for(R"({"mesh": "data/a\nb.msh"})"),
+            "/mesh: file not found: " + (dir_.path() / "data").string() + "/a\\nb.msh");
+}
+
 TEST_F(SceneLoader, RejectsAMissingMeshFile) {
   EXPECT_EQ(error_for(R"({"mesh": "data/missing.msh"})"),
             "/mesh: file not found: " + (dir_.path() / "data/missing.msh").string());
