@@ -10,14 +10,31 @@
 #include <cstring>
 #include <random>
 #include <string>
+#include <string_view>
 
 // Helpers shared by the mesh file tests: expected-error matchers and byte builders for binary
 // files made inside the tests.
 namespace softbench::test {
 
-/// Matches a callable that throws InputError with `text` in its message.
+/// Matches a callable that throws InputError with exactly `text` as its message, after the
+/// folder of the file it names: `text` starts with the file's name ("cut.vtk: line 6: ...") and
+/// the message is "<folder>/" + text, the folder being the test's own temporary one. Each
+/// reader's test file holds its bad-input catalogue so: one test a malformed input, with the
+/// whole message a user sees.
+MATCHER_P(IsMessageInAFolder, text, "is <folder>/" + std::string(text)) {
+  const std::string_view message = arg;
+  const std::string_view tail = text;
+  if (message.size() <= tail.size() || !message.ends_with(tail)) {
+    return false;
+  }
+  // Only a folder before it: no second message, no line break.
+  const std::string_view folder = message.substr(0, message.size() - tail.size());
+  return folder.ends_with('/') && folder.find(": ") == std::string_view::npos
+         && folder.find('\n') == std::string_view::npos;
+}
+
 inline auto ThrowsInputError(const std::string& text) {
-  return testing::ThrowsMessage<InputError>(testing::HasSubstr(text));
+  return testing::ThrowsMessage<InputError>(IsMessageInAFolder(text));
 }
 
 /// `count` bytes from a seeded generator: the same garbage on every run.

@@ -177,15 +177,19 @@ TEST(ReadMesh, RejectsUnknownExtensions) {
               ThrowsInputError("liver.sph: unknown mesh file extension '.sph' (expected .obj, "
                                ".msh, .node, .ele, .face, .stl, .vtk or .vtu)"));
   EXPECT_THAT([&] { read_mesh(material); },
-              ThrowsInputError("liver.mtl: unknown mesh file extension '.mtl'"));
-  EXPECT_THAT([&] { read_mesh(bare); }, ThrowsInputError("liver: no file extension"));
+              ThrowsInputError("liver.mtl: unknown mesh file extension '.mtl' (expected .obj, "
+                               ".msh, .node, .ele, .face, .stl, .vtk or .vtu)"));
+  EXPECT_THAT([&] { read_mesh(bare); }, ThrowsInputError("liver: no file extension (expected .obj, "
+                                                         ".msh, .node, .ele, .face, .stl, .vtk or "
+                                                         ".vtu)"));
 }
 
 TEST(ReadMesh, RejectsContentThatDoesNotMatchTheExtension) {
   TempDir dir;
   const auto path = dir.write("surface.msh", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
   EXPECT_THAT([&] { read_mesh(path); },
-              ThrowsInputError("surface.msh: line 1: expected $MeshFormat (MSH 2.2, 4.1) or $NOD"));
+              ThrowsInputError("surface.msh: line 1: expected $MeshFormat (MSH 2.2, 4.1) or $NOD "
+                               "(MSH 1) at the start of a Gmsh file, found 'v'"));
 }
 
 }  // namespace

@@ -153,8 +153,12 @@ TEST(ReadStl, RejectsTruncatedBinary) {
 TEST(ReadStl, RejectsSolidFollowedByRandomBytes) {
   TempDir dir;
   const auto path = dir.write("fake.stl", "solid " + random_bytes(13, 1000));
-  EXPECT_THAT([&] { read_stl(path); }, ThrowsInputError("fake.stl: "));
-  EXPECT_THAT([&] { read_stl(path); }, ThrowsInputError("triangles ("));
+  EXPECT_THAT([&] { read_stl(path); }, ThrowsInputError("fake.stl: truncated: header says "
+                                                        "3602259007 triangles (180112950434 "
+                                                        "bytes), file has 1006 bytes"));
+  EXPECT_THAT([&] { read_stl(path); }, ThrowsInputError("fake.stl: truncated: header says "
+                                                        "3602259007 triangles (180112950434 "
+                                                        "bytes), file has 1006 bytes"));
 }
 
 TEST(ReadStl, RejectsAsciiTruncatedInsideAFacet) {
@@ -218,7 +222,8 @@ TEST(ReadStl, RejectsAFileShorterThanTheBinaryHeader) {
 TEST(ReadStl, RejectsANegativeWeldTolerance) {
   TempDir dir;
   const auto path = dir.write("cube.stl", ascii_stl(cube_surface()));
-  EXPECT_THAT([&] { read_stl(path, -1.0); }, ThrowsInputError("weld tolerance must be >= 0"));
+  EXPECT_THAT([&] { read_stl(path, -1.0); }, ThrowsInputError("cube.stl: weld tolerance must be >= "
+                                                              "0, got -1"));
 }
 
 }  // namespace

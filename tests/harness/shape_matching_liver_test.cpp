@@ -38,8 +38,9 @@ TEST(ShapeMatchingLiver, HangsFromItsBandWithItsVolumeAndRecoversWhenGravityIsOf
 
 TEST(ShapeMatchingLiver, TakesTheProbeAndLetsItGo) {
   // Measured: volume within 8.9% (the sag), 120 intersecting pairs and 0.65 N at the deepest,
-  // 1.78 mm of tissue inside the probe at worst, 0.30% off its shape 1.5 s after the withdrawal,
-  // no force once the probe has gone. When a contact's corners anchored their clusters (as a
+  // the probe not inside the tissue once its contact settles (1.78 mm inside when a step had
+  // only 4 contact passes), 0.30% off its shape 1.5 s after the withdrawal, no force once the
+  // probe has gone. When a contact's corners anchored their clusters (as a
   // pin does) the liver crumpled under the probe: 178% volume change, 2,061 tets inverted,
   // 5.9 mm inside it, 120 N on the withdrawn probe.
   const ModelRun run = run_shipped("liver_press.json");
@@ -47,7 +48,7 @@ TEST(ShapeMatchingLiver, TakesTheProbeAndLetsItGo) {
   EXPECT_LT(run.shape.volume_change, 0.15);
   EXPECT_GT(run.contact.peak_tool_force, 0.0);
   EXPECT_GT(run.contact.max_triangle_pairs, 0);
-  EXPECT_LT(run.contact.max_penetration_pressing, 0.0025);  // the goal is 1 mm: not met yet
+  EXPECT_LT(run.contact.max_penetration_pressing, 0.001);
   ASSERT_TRUE(run.recovery.measured);
   EXPECT_LT(run.recovery.residual, 0.01);
   for (const Warning& warning : run.warnings) {
