@@ -33,8 +33,9 @@ class SceneStepper {
   /// (a pass adds or drops holds). Most steps settle in one or two; a step that runs out of
   /// passes keeps its last pass, holds still changing, and the tool may end inside the tissue.
   /// Measured on liver_press: corotational_fem and bullet_softbody end the same with a cap of 4
-  /// or 32; shape matching and the mass-spring model need up to 7 passes on a few dozen steps and 21-25 on one or two (their
-  /// unheld neighbours fold over the probe's tip and are held in turn). With 4 passes shape
+  /// or 32; shape matching and the mass-spring model need up to 7 passes on a few dozen steps
+  /// and 21-25 on one or two (their unheld neighbours fold over the probe's tip and are held in
+  /// turn). With 4 passes shape
   /// matching ended 1.78 mm inside the probe and mass_spring 1.50 mm, with 8 passes 1.17 mm, with
   /// 32 none; steps that settle early cost the same, so the cap only bounds the worst step.
   static constexpr int kContactPasses = 32;
