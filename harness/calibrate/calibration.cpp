@@ -20,7 +20,7 @@ namespace softbench::harness {
 namespace {
 
 /// Bumped when what a calibration computes changes, so old caches are not read as new.
-constexpr int kCalibrationVersion = 1;
+constexpr int kCalibrationVersion = 2;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -74,6 +74,12 @@ void write_cache(const std::filesystem::path& path, const nlohmann::json& json) 
   write_file_atomically(path, [&](std::ostream& out) { out << text; });
 }
 
+/// Added to the cost of a candidate whose run a report would flag (TissueResponse::implausible):
+/// more than any plausible candidate's cost (a thousandfold miss on every target is 47.7), so
+/// every plausible candidate ranks first and an implausible one wins only when nothing in the
+/// range is plausible, and then says so.
+constexpr double kImplausible = 1e3;
+
 /// The fit's cost: the mean squared log ratio of the sag and, together with it, of the press
 /// forces (sag and press weigh half each). Log ratios treat too stiff and too soft alike; a
 /// target the model missed entirely (no sag, no force) counts as a thousandfold miss, one it
@@ -89,11 +95,15 @@ double cost(const TissueResponse& model, const TissueResponse& reference) {
     const double ratio = std::max(value / target, 1e-3);
     return std::log(ratio) * std::log(ratio);
   };
+  const double sag = miss(model.sag.sag, reference.sag.sag);
+  if (!model.implausible.empty()) {
+    // Its sag, where it has one, still orders the implausible candidates among themselves.
+    return kImplausible + (model.sag.implausible.empty() ? sag : kImplausible);
+  }
   double press = 0.0;
   for (std::size_t i = 0; i < reference.forces.size(); ++i) {
     press += miss(model.forces[i], reference.forces[i]);
   }
-  const double sag = miss(model.sag.sag, reference.sag.sag);
   return reference.forces.empty() ? sag : 0.5 * sag + 0.5 * press / reference.forces.size();
 }
 
@@ -265,10 +275,12 @@ TissueResponse reference_response(const scenes::Scene& scene,
   }
   const TissueResponse response = tissue_response(
       scene, mesh, options.against, scene.parameters_for(options.against), options.press);
-  if (!response.sag.stable || !response.press_stable || !response.sag.settled) {
-    throw InputError(scene.source.string() + ": the reference " + options.against
-                     + " did not come to rest under gravity or blew up in the press; nothing "
-                       "to calibrate against");
+  if (!response.sag.stable || !response.press_stable || !response.implausible.empty()) {
+    const std::string why = response.implausible.empty()
+                                ? "blew up under gravity or in the press"
+                                : "left a tissue's state: " + response.implausible;
+    throw InputError(scene.source.string() + ": the reference " + options.against + " " + why
+                     + "; nothing to calibrate against");
   }
   for (double force : response.forces) {
     if (!(force > 0.0)) {
@@ -324,6 +336,10 @@ Calibration calibrate(const scenes::Scene& scene,
   nlohmann::json key = tissue_key(scene, mesh, options);
   key["model"] = model;
   key["base"] = base;
+  for (const FittedParameter& parameter : info.calibration.fitted) {
+    key["fitted"].push_back(
+        {parameter.name, parameter.lower, parameter.upper, parameter.log_scale});
+  }
   const std::filesystem::path cache = cache_file(options, model, key);
   if (!options.cache_dir.empty() && std::filesystem::exists(cache)) {
     return calibration_from_json(read_json_file(cache).at("calibration"));
@@ -363,7 +379,11 @@ Calibration calibrate(const scenes::Scene& scene,
         *options.progress << " " << force;
       }
       *options.progress << " N, cost " << value << " (at rest after " << response.sag.time
-                        << " s; " << response.seconds << " s)\n";
+                        << " s; " << response.seconds << " s)";
+      if (!response.implausible.empty()) {
+        *options.progress << "; not a tissue's: " << response.implausible;
+      }
+      *options.progress << "\n";
     }
     response.sag.positions.resize(3, 0);  // the targets are kept, not every candidate's shape
     responses.emplace(u, std::move(response));
@@ -377,6 +397,11 @@ Calibration calibrate(const scenes::Scene& scene,
   if (!std::isfinite(result.objective)) {
     throw InputError(scene.source.string() + ": " + model
                      + " blew up at every point of its calibration range");
+  }
+  if (!result.fitted.sag.implausible.empty()) {
+    throw InputError(scene.source.string() + ": " + model
+                     + " crumpled under gravity at every point of its calibration range ("
+                     + result.fitted.sag.implausible + " at best)");
   }
 
   nlohmann::json block = block_at(best);

@@ -4,6 +4,8 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
+#include "harness/run/metrics.h"
+#include "harness/run/plausibility.h"
 #include "harness/run/run_monitor.h"
 #include "harness/run/scene_stepper.h"
 #include "models/model_registry.h"
@@ -15,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 namespace softbench::harness {
 namespace {
@@ -64,6 +67,32 @@ scenes::Scene press_scene(const scenes::Scene& scene,
   return press;
 }
 
+/// Whether a body's shape is still a tissue's, by the limits every run's report judges with:
+/// a calibration that took a crumpled or inverted candidate's numbers would fit a model to a
+/// state its own run would flag.
+class ShapeCheck {
+ public:
+  explicit ShapeCheck(const TetMesh& mesh) : mesh_(mesh), rest_volume_(mesh_volume(mesh)) {}
+
+  /// Why `positions` is not a tissue's shape; empty when it is.
+  std::string operator()(const Eigen::Matrix3Xd& positions) const {
+    const PlausibilityLimits limits;
+    std::ostringstream why;
+    const int inverted = count_inverted_tets(mesh_, positions);
+    const double change = std::abs(mesh_volume(mesh_, positions) / rest_volume_ - 1.0);
+    if (inverted > limits.max_inverted_fraction * mesh_.num_tets()) {
+      why << inverted << " of " << mesh_.num_tets() << " tets inverted";
+    } else if (change > limits.max_volume_change) {
+      why << "volume changed by " << 100.0 * change << "%";
+    }
+    return why.str();
+  }
+
+ private:
+  const TetMesh& mesh_;
+  double rest_volume_;
+};
+
 /// The force at `depth` past first contact, linear between the steps around it.
 double force_at(const std::vector<double>& travel, const std::vector<double>& force, double depth) {
   for (std::size_t k = 1; k < travel.size(); ++k) {
@@ -111,6 +140,7 @@ StaticSag settle(const scenes::Scene& scene,
   const Eigen::Vector3d down = input.gravity.normalized();
 
   StaticSag result;
+  const ShapeCheck check(mesh);
   const int window = static_cast<int>(std::ceil(1.0 / scene.dt));
   const int max_steps = static_cast<int>(std::ceil(options.max_time / scene.dt));
   int slow_steps = 0;
@@ -122,6 +152,11 @@ StaticSag settle(const scenes::Scene& scene,
     slow_steps = monitor.free_speed() < options.rest_speed ? slow_steps + 1 : 0;
     result.settled = slow_steps >= window;
     result.time = (step + 1) * scene.dt;
+    result.implausible = check(body.positions());
+    if (!result.implausible.empty()) {
+      result.settled = false;
+      break;
+    }
   }
   double sum = 0.0;
   int free_vertices = 0;
@@ -213,8 +248,15 @@ TissueResponse tissue_response(const scenes::Scene& scene,
       create(scene, mesh.body, model, with_settling_damping(model, params));
   response.sag = settle(scene, mesh.body, *body, settings.settling);
   response.forces.assign(settings.depths.size(), kNaN);
-  if (!response.sag.stable) {
-    response.press_stable = false;
+  if (!response.sag.implausible.empty()) {
+    response.implausible = "under gravity: " + response.sag.implausible;
+  } else if (!response.sag.settled) {
+    std::ostringstream why;
+    why << "still moving after " << response.sag.time << " s under gravity";
+    response.implausible = why.str();
+  }
+  if (!response.sag.stable || !response.sag.implausible.empty()) {
+    response.press_stable = response.sag.stable;  // not pressed: a crumpled body has no press
     response.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return response;
@@ -224,6 +266,7 @@ TissueResponse tissue_response(const scenes::Scene& scene,
       scene, mesh, response.sag.positions.col(response.press_vertex), settings);
   SceneStepper stepper(press, mesh);
   RunMonitor monitor(mesh.body, press.limits, mesh.diagonal());
+  const ShapeCheck check(mesh.body);
   std::vector<double> travel{-settings.approach};
   std::vector<double> force{0.0};
   const int steps = press.num_steps();
@@ -236,6 +279,15 @@ TissueResponse tissue_response(const scenes::Scene& scene,
     stepper.observe(step, *body);
     travel.push_back(stepper.loading().tool_displacement() - settings.approach);
     force.push_back(stepper.loading().tool_force());
+    // The first step that leaves a tissue's shape is named; the press goes on, so that the
+    // candidate's forces still rank it among the others that did.
+    if (response.implausible.empty()) {
+      if (const std::string why = check(body->positions()); !why.empty()) {
+        std::ostringstream at;
+        at << "pressed " << 100.0 * travel.back() << " cm: " << why;
+        response.implausible = at.str();
+      }
+    }
   }
   for (std::size_t i = 0; i < settings.depths.size(); ++i) {
     response.forces[i] = force_at(travel, force, settings.depths[i]);
@@ -254,6 +306,7 @@ nlohmann::json to_json(const TissueResponse& response) {
           {"settled", response.sag.settled},
           {"settle_time", response.sag.time},
           {"stable", response.sag.stable && response.press_stable},
+          {"implausible", response.implausible},
           {"press_vertex", response.press_vertex},
           {"forces", forces},
           {"seconds", response.seconds}};
@@ -266,6 +319,7 @@ TissueResponse tissue_response_from_json(const nlohmann::json& json) {
   response.sag.time = json.at("settle_time").get<double>();
   response.sag.stable = json.at("stable").get<bool>();
   response.press_stable = response.sag.stable;
+  response.implausible = json.at("implausible").get<std::string>();
   response.press_vertex = json.at("press_vertex").get<int>();
   for (const nlohmann::json& f : json.at("forces")) {
     response.forces.push_back(f.is_null() ? kNaN : f.get<double>());

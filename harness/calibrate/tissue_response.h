@@ -27,6 +27,10 @@ struct StaticSag {
   double time = 0.0;     ///< s of simulated time it took to come to rest
   bool settled = false;  ///< came to rest within max_time
   bool stable = true;    ///< RunMonitor's rule held at every step
+  /// Why the body is not a tissue's (a run's report would flag it: more tets inverted at once
+  /// or more volume change than PlausibilityLimits allow); empty when it is. The settling stops
+  /// at the first such step: a crumpled body has no static sag to press.
+  std::string implausible;
   Eigen::Matrix3Xd positions;  ///< the body where it came to rest (3 x #V, m)
 };
 
@@ -68,6 +72,10 @@ struct TissueResponse {
   /// there: it blew up).
   std::vector<double> forces;
   bool press_stable = true;
+  /// The sag's StaticSag::implausible, or the first step of the press that left a tissue's
+  /// shape, or "still moving after N s" when the sag did not settle (a creeping or crumpling
+  /// body has no static sag); empty for a tissue's response.
+  std::string implausible;
   int press_vertex = -1;
   double seconds = 0.0;  ///< wall-clock time of both runs
 };

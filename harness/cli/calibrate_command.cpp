@@ -39,6 +39,10 @@ void print(const Calibration& c, const scenes::Scene& scene, std::ostream& out) 
     out << c.targets[i + 1] << " | " << c.reference.forces[i] << " N | " << c.fitted.forces[i]
         << " N | " << percent(c.errors[i + 1]) << "\n";
   }
+  if (!c.fitted.implausible.empty()) {
+    out << "no candidate in the range stayed a tissue; the best is not one either: "
+        << c.fitted.implausible << "\n";
+  }
   out << "calibration: " << c.evaluations << " runs in " << std::fixed << std::setprecision(1)
       << c.seconds << " s (the reference's runs: " << c.reference_seconds << " s, cached)\n";
   out.unsetf(std::ios::fixed);

@@ -91,8 +91,12 @@ ModelInfo shape_matching_info() {
                          "alpha (pull toward the goal per step); shape matching ignores Young's "
                          "modulus"};
   // Both knobs of its stiffness: alpha (the pull per step, down to very soft) and beta (how
-  // much deformation the goals keep).
-  info.calibration.fitted = {{"alpha", 0.01, 1.0, true}, {"beta", 0.0, 1.0, false}};
+  // much deformation the goals keep), beta up to 0.9 only. Near 1 the quadratic goals keep
+  // almost any fold, and the edge where the liver crumples is sharp and load-dependent: at
+  // alpha 0.98 the fit's sag pulled beta to 0.968, which settles and presses as a tissue, and
+  // the same block on liver_pull's grasp crumples (224% volume change, 659 tets inverted),
+  // where beta 0.9 (and 0.8, and the thesis's 0.63) recovers below 1%.
+  info.calibration.fitted = {{"alpha", 0.01, 1.0, true}, {"beta", 0.0, 0.9, false}};
   // Fewer, larger clusters: fewer polar decompositions, a stiffer and less local response;
   // fewer passes: half the cost, a body whose weight crosses fewer clusters a step.
   info.speed_settings = {{{"clusters", 20}}, {{"iterations", 2}}};

@@ -72,6 +72,25 @@ TEST_F(Calibration, TheResponseIsASagAndARisingPressForce) {
   EXPECT_LT(response.forces[1], response.forces[2]);
 }
 
+TEST_F(Calibration, ACrumpledBodyIsNotATissuesResponse) {
+  // Springs a ten-thousandth as stiff as the bar's material: it folds under its own weight.
+  const scenes::Scene bar = scene(R"({"mass_spring": {"stiffness_scale": 1e-4, "mass_damping": 5},
+                                      "corotational_fem": {"rayleigh_mass": 5}})");
+  const SceneMesh mesh = read_scene_mesh(bar);
+  const TissueResponse rag =
+      tissue_response(bar, mesh, "mass_spring", bar.parameters_for("mass_spring"));
+  EXPECT_THAT(rag.implausible, HasSubstr("under gravity: "));
+  EXPECT_FALSE(rag.sag.implausible.empty());
+  EXPECT_FALSE(rag.sag.settled);
+  // Not pressed: a crumpled body's forces are not a tissue's.
+  for (double force : rag.forces) {
+    EXPECT_TRUE(std::isnan(force));
+  }
+  const TissueResponse tissue = tissue_response(bar, mesh, "corotational_fem",
+                                                bar.parameters_for("corotational_fem"));
+  EXPECT_EQ(tissue.implausible, "");
+}
+
 TEST_F(Calibration, MassSpringRecoversTheStiffnessScaleItWasRunWith) {
   constexpr double kScale = 2.0;
   const scenes::Scene bar =
