@@ -121,6 +121,10 @@ constexpr double kBandSlack = 0.05;
 // triangle under it: more than the sagitta of a tissue triangle held on a curved instrument
 // at its corners (17 um for 1.2 mm edges on a 1 cm sphere).
 constexpr double kPointSlack = 0.25;
+// How much deeper than this step's motion can bring it an instrument point may be inside the
+// tissue and still push it, in sample spacings (half mean edges, 2.4 mm on the liver): what an
+// earlier step's contact left when its passes ran out. Deeper, it is behind a fold.
+constexpr double kFoldDepth = 4.0;
 
 }  // namespace
 
@@ -138,8 +142,8 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
       instrument_triangles_(instrument.triangles),
       instrument_local_(instrument.vertices),
       instrument_world_(instrument.vertices),
-      samples_local_(
-          surface_samples(instrument, sample_spacing(tissue_positions, tissue_surface))) {
+      spacing_(sample_spacing(tissue_positions, tissue_surface)),
+      samples_local_(surface_samples(instrument, spacing_)) {
   require_closed(tissue_surface, static_cast<int>(tissue_positions.cols()), "tissue surface");
   require_closed(instrument.triangles, instrument.num_vertices(), "instrument mesh");
   const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
@@ -151,6 +155,37 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
   move_.assign(vertices, Eigen::Vector3d::Zero());
   push_.assign(vertices, Eigen::Vector3d::Zero());
   slides_.assign(vertices, 1);
+  sample_normals_local_.resize(3, samples_local_.cols());
+  for (Eigen::Index i = 0; i < samples_local_.cols(); ++i) {
+    sample_normals_local_.col(i) = instrument_distance_.nearest(samples_local_.col(i)).normal;
+  }
+}
+
+// Whether instrument point `sample` at `pose`, `nearest` the tissue's surface and inside it by
+// the pseudonormal test, is behind a fold of that surface rather than in the tissue. The test
+// says inside wherever the nearest triangle faces away, and on a folded or inverted patch that
+// is the wrong side, however far off the point is: on a liver crumpling under a deep press,
+// pushing such triangles out to the withdrawing probe's points moved a corner 12 cm in one
+// step. A point in the tissue is pushing it out of the instrument (along the
+// instrument's outward normal there, within 90 degrees), and no deeper than this step's motion
+// of the point and of the triangle's corners (their free flight) can have brought it, plus
+// kFoldDepth.
+bool InstrumentContact::behind_fold(Eigen::Index sample,
+                                    const Eigen::Isometry3d& pose,
+                                    const MeshDistance::Nearest& nearest) const {
+  const Eigen::Vector3d outward = pose.linear() * sample_normals_local_.col(sample);
+  if (outward.dot(nearest.normal) >= 0.0) {
+    return true;  // the push (-nearest.normal) would be into the instrument
+  }
+  double corners = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const int vertex = tissue_surface_(k, nearest.triangle);
+    corners = std::max(corners, (predicted_.col(vertex) - start_.col(vertex)).norm());
+  }
+  const Eigen::Vector3d local = samples_local_.col(sample);
+  const double reach = (start_pose_ * local - pose * local).norm() + corners
+                       + 2.0 * options_.margin + kFoldDepth * spacing_;
+  return -nearest.signed_distance > reach;
 }
 
 double InstrumentContact::instrument_distance(const Eigen::Isometry3d& pose,
@@ -229,7 +264,7 @@ void InstrumentContact::resolve_tissue_vertices(const Eigen::Isometry3d& pose,
 
 // Instrument vertices inside the tissue (a tip between tissue vertices), or about to be: move
 // the nearest surface triangle along its normal until the vertex is the margin outside.
-void InstrumentContact::resolve_instrument_vertices() {
+void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pose) {
   const double margin = options_.margin;
   const Aabb reach =
       inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
@@ -246,6 +281,9 @@ void InstrumentContact::resolve_instrument_vertices() {
     // held at the margin (the chord's sagitta) is not a point the tissue passes.
     const double band = (pressed ? 2.0 * margin : margin) - kPointSlack * margin;
     if (nearest.signed_distance >= band && predicted_distance_.signed_distance(p) >= band) {
+      continue;
+    }
+    if (nearest.signed_distance < 0.0 && behind_fold(i, pose, nearest)) {
       continue;
     }
     // Move the surface point under the vertex inward by the shortfall (outward, to meet the
@@ -280,6 +318,8 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   // judging only where it is lets tissue that swings into a still instrument pass through it
   // within the step.
   predicted_ = positions + dt * velocities;
+  start_ = positions;  // same size every step: no allocation after the first
+  start_pose_ = last_pose_;
   instrument_world_ = pose * instrument_local_;
   samples_world_ = pose * samples_local_;
   instrument_tree_.refit(instrument_world_);
@@ -295,7 +335,7 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   dropped_vertices_.clear();
   moved_.clear();
   resolve_tissue_vertices(pose, positions);
-  resolve_instrument_vertices();
+  resolve_instrument_vertices(pose);
   for (const VertexTarget& target : targets_) {
     pressed_[static_cast<std::size_t>(target.vertex)] = 0;
   }
@@ -365,7 +405,7 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
         {vertex, pose * (nearest.point + margin * out_local), pose.linear() * out_local});
     changed = true;
   }
-  changed = hold_tissue_around_points(positions) || changed;
+  changed = hold_tissue_around_points(pose, positions) || changed;
   for (const VertexTarget& target : targets_) {
     target_index_[static_cast<std::size_t>(target.vertex)] = -1;
   }
@@ -375,7 +415,8 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
 // The instrument's points the tissue ended around (a thin tip the tissue sprang back over as
 // the tool withdrew, faster than the tool): the triangle under each is held the margin outside
 // the point, as resolve() pushes it, its corners held fully so it stays under the point.
-bool InstrumentContact::hold_tissue_around_points(const Eigen::Matrix3Xd& positions) {
+bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
+                                                  const Eigen::Matrix3Xd& positions) {
   const double margin = options_.margin;
   tissue_distance_.update(positions);
   const Aabb reach = inflated(tissue_distance_.bounds(), margin);
@@ -390,6 +431,9 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Matrix3Xd& positi
     // held on it, and holding their triangles fully would make the contact stick).
     const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
     if (nearest.signed_distance >= 0.0) {
+      continue;
+    }
+    if (behind_fold(i, pose, nearest)) {
       continue;
     }
     const double shortfall = margin - nearest.signed_distance;

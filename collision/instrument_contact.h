@@ -12,7 +12,9 @@
 //     barycentric weights (the least-norm vertex displacements that move that point of the
 //     triangle by the push). The points are the instrument's vertices plus samples on its
 //     faces no farther apart than half the tissue surface's mean edge, so that no tissue
-//     triangle passes between them.
+//     triangle passes between them. A point "inside" by the pseudonormal test but behind a fold
+//     of the tissue's surface (its push would be into the instrument, or it is deeper than the
+//     step's motion can bring it) pushes nothing.
 // A vertex that several contacts move keeps the largest move. Contact is judged on the tissue
 // where it is and where it would be at the step's end without contact (x + dt v). Contacts hold
 // while tissue and instrument are within twice the margin and the previous step's constraint
@@ -116,11 +118,16 @@ class InstrumentContact {
 
  private:
   void resolve_tissue_vertices(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);
-  void resolve_instrument_vertices();
+  void resolve_instrument_vertices(const Eigen::Isometry3d& pose);
   void propose(int vertex, const Eigen::Vector3d& move, const Eigen::Vector3d& push, bool slides);
   bool was_pressed(int vertex) const;
   bool on_surface(const Eigen::Isometry3d& pose, const VertexTarget& target) const;
-  bool hold_tissue_around_points(const Eigen::Matrix3Xd& positions);
+  bool hold_tissue_around_points(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);
+  /// Whether instrument sample `sample` at `pose`, inside the tissue by `nearest`, is behind a
+  /// fold of the tissue's surface instead (see the definition).
+  bool behind_fold(Eigen::Index sample,
+                   const Eigen::Isometry3d& pose,
+                   const MeshDistance::Nearest& nearest) const;
   /// Per tissue vertex: 1 once refine() dropped its target this step (it is not taken again).
   std::vector<char> dropped_;
   /// Per tissue vertex: its target's index in targets_ while refine() runs, else -1.
@@ -140,7 +147,9 @@ class InstrumentContact {
   Eigen::Matrix3Xi instrument_triangles_;
   Eigen::Matrix3Xd instrument_local_;
   Eigen::Matrix3Xd instrument_world_;
+  double spacing_;                  ///< m: half the tissue surface's mean edge at rest
   Eigen::Matrix3Xd samples_local_;  ///< points on the instrument's surface (vertices and more)
+  Eigen::Matrix3Xd sample_normals_local_;  ///< the instrument's outward pseudonormal at each sample
   Eigen::Matrix3Xd samples_world_;
   Eigen::Matrix3Xd predicted_;  ///< the tissue at the step's end without contact
   CollideBuffers buffers_;
@@ -149,6 +158,8 @@ class InstrumentContact {
   std::vector<int> pressed_;                ///< per tissue vertex: 1 if pushed away last step
   std::vector<Eigen::Vector3d> last_push_;  ///< per tissue vertex: its push last step
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d start_pose_ = Eigen::Isometry3d::Identity();  ///< the pose a step starts at
+  Eigen::Matrix3Xd start_;  ///< the tissue at the step's start
   std::vector<char> has_move_;         ///< per tissue vertex: a move was proposed this step
   std::vector<Eigen::Vector3d> move_;  ///< per tissue vertex: this step's largest move
   std::vector<Eigen::Vector3d> push_;

@@ -2,6 +2,8 @@
 #include "collision/instrument_contact.h"
 
 #include "geometry/input_error.h"
+#include "geometry/mesh_topology.h"
+#include "geometry/shape_meshes.h"
 #include "tests/collision/bvh_test_meshes.h"
 
 #include <gmock/gmock.h>
@@ -61,5 +63,46 @@ TEST(InstrumentContact, RefusesOpenOrMisorientedSurfaces) {
   }
 }
 
+// The inside test of a point against the tissue's surface (the nearest feature's pseudonormal)
+// says inside wherever the nearest triangle faces away from it; on an inverted patch that is the
+// wrong side. An instrument point there is behind a fold, not in the tissue, and pushes nothing:
+// pushing the patch "out" to it would move the tissue by the point's whole distance in one step
+// (a crumpling liver's corner went 10 cm up with the withdrawing probe).
+TEST(InstrumentContact, APointBehindAnInvertedPatchOfTheTissuePushesNothing) {
+  // Two 4 x 4 x 2 cm slabs of 5 mm cells, the second 5 cm above the first.
+  const MeshData slab = box_tets(8, 8, 4, 0.04, 0.04, 0.02);
+  const auto n = slab.vertices.cols();
+  Eigen::Matrix3Xd rest(3, 2 * n);
+  rest << slab.vertices, slab.vertices.colwise() + Eigen::Vector3d(0.0, 0.0, 0.05);
+  const Eigen::Matrix3Xi faces = boundary_triangles(slab.tetrahedra);
+  Eigen::Matrix3Xi surface(3, 2 * faces.cols());
+  surface << faces, faces.array() + static_cast<int>(n);
+  const TriMesh probe = icosphere(1, 0.003);
+  InstrumentContact contact(rest, surface, probe);
+  // The lower slab turned inside out: mirrored through its bottom, every face facing in.
+  Eigen::Matrix3Xd folded = rest;
+  folded.leftCols(n).row(2) *= -1.0;
+  const Eigen::Matrix3Xd still = Eigen::Matrix3Xd::Zero(3, folded.cols());
+  constexpr double kDt = 0.01;
+  // The probe 1 cm above the lower slab's bottom face, which faces down, toward the slab's
+  // inside: "inside" the tissue by the test (the points on its top by more than this step's
+  // motion can bring them, those on its bottom pushing it into the probe), outside it in fact.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.02, 0.02, 0.013);
+  contact.resolve(pose, folded, still, kDt, still);  // the step before: the probe already there
+  const std::vector<VertexTarget>& targets = contact.resolve(pose, folded, still, kDt, still);
+  EXPECT_TRUE(targets.empty()) << targets.size() << " tissue vertices moved, the first by "
+                               << (targets.front().target - folded.col(targets.front().vertex)).norm()
+                               << " m";
+  EXPECT_FALSE(contact.refine(pose, folded, still));
+  EXPECT_TRUE(contact.targets().empty());
+
+  // The same probe against the slab as it is, 1 mm into its top: pushed.
+  Eigen::Isometry3d pressing = Eigen::Isometry3d::Identity();
+  pressing.translation() = Eigen::Vector3d(0.02, 0.02, 0.022);
+  InstrumentContact intact(rest, surface, probe);
+  intact.resolve(pressing, rest, still, kDt, still);
+  EXPECT_FALSE(intact.resolve(pressing, rest, still, kDt, still).empty());
+}
 }  // namespace
 }  // namespace softbench::collision
