@@ -4,7 +4,9 @@ Usage: plot_sweep.py sweep.json [--out DIR]
 
 Writes DIR/sweep.png (default DIR: the folder of sweep.json): each stable run's position error
 against the reference (relative RMS, log) over its steps per second (log), one colour per model,
-each model's Pareto front joined by a line, and the 1%, 5% and 20% error budgets marked.
+each model's Pareto front joined by a line, and the 1%, 5% and 20% error budgets marked. Against
+a reference that did not converge (sweep.json's ranking_refused) there is no front, and the
+title says the errors are not ranked.
 """
 
 import os
@@ -37,7 +39,10 @@ def main():
     axes.set_yscale("log")
     axes.set_xlabel("steps per second")
     axes.set_ylabel("position error vs reference (relative RMS)")
-    axes.set_title("Speed and accuracy: " + str(data.get("scene", "")), fontsize=10)
+    title = "Speed and accuracy: " + str(data.get("scene", ""))
+    if data.get("ranking_refused"):
+        title += "\n(not ranked: the reference has not converged)"
+    axes.set_title(title, fontsize=10)
     axes.grid(True, which="both", alpha=0.3)
     if models:
         axes.legend(fontsize=8)

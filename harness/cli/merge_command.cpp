@@ -19,9 +19,11 @@ void merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
   for (const SweepRecord& record : records) {
     write_sweep_record(out, record);
   }
-  write_sweep_table(out, "merged", records);
+  const ReferenceConvergence convergence = read_reference_convergence(paths);
+  write_reference_convergence(out, convergence);
+  write_sweep_table(out, "merged", records, convergence);
   std::cout << records.size() << " runs merged into " << (out / "sweep.csv").string() << "\n";
-  print_budgets(records);
+  print_budgets(records, convergence);
   plot_sweep(out);
 }
 

@@ -22,6 +22,11 @@ void recommend_for(const std::string& scene_file, const std::string& sweep_dir) 
                      "steps_per_second, accuracy, outputs)");
   }
   const std::filesystem::path dir = out_dir_or(sweep_dir, default_sweep_dir(scene.name));
+  if (const std::string refusal = ranking_refusal(read_reference_convergence({dir}));
+      !refusal.empty()) {
+    std::cout << "No recommendation: " << refusal << ".\n";
+    return;
+  }
   const Recommendation result = recommend(*scene.requirements, read_sweep_runs({dir}));
   std::cout << result.explanation;
 }

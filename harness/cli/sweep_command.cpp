@@ -24,6 +24,9 @@ struct SweepArguments {
   std::string shard;
   std::string reference_model = ReferenceSettings{}.model;
   int reference_substeps = ReferenceSettings{}.substeps;
+  std::string reference_dir;
+  bool trust_reference = false;
+  bool reference_only = false;
 };
 
 // "i/N"; else a Slurm array task (SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT); else 0/1.
@@ -61,11 +64,22 @@ void sweep(const SweepArguments& arguments) {
   options.out_dir = out_dir_or(arguments.out_dir, default_sweep_dir(scene.name));
   options.reference.model = arguments.reference_model;
   options.reference.substeps = arguments.reference_substeps;
+  options.reference_dir = arguments.reference_dir;
+  options.trust_reference = arguments.trust_reference;
+  options.reference_only = arguments.reference_only;
   options.progress = &std::cerr;
   const std::vector<SweepRecord> records = run_sweep(scene, options);
-  write_sweep_table(options.out_dir, scene.name, records);
+  const ReferenceConvergence convergence = read_reference_convergence({options.out_dir});
+  if (options.reference_only) {
+    const std::string refusal = ranking_refusal(convergence);
+    std::cout << "reference ready"
+              << (convergence.checked ? "" : " (not checked: --trust-reference)")
+              << (refusal.empty() ? "" : "; " + refusal) << "\n";
+    return;
+  }
+  write_sweep_table(options.out_dir, scene.name, records, convergence);
   std::cout << records.size() << " runs in " << (options.out_dir / "sweep.csv").string() << "\n";
-  print_budgets(records);
+  print_budgets(records, convergence);
   plot_sweep(options.out_dir);
 }
 
@@ -97,6 +111,15 @@ void add_sweep_command(CLI::App& app) {
                    "the reference's dt is the scene's divided by this")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  sweep_command->add_option("--reference-dir", arguments->reference_dir,
+                            "where the reference is cached (default: the output folder's "
+                            "reference/); shards given one shared folder compute it once");
+  sweep_command->add_flag("--trust-reference", arguments->trust_reference,
+                          "rank models without checking that the reference converged (the "
+                          "check reruns it at twice the substeps)");
+  sweep_command->add_flag("--reference-only", arguments->reference_only,
+                          "compute the reference and its check into --reference-dir, run no "
+                          "model (before a cluster's shards start)");
   sweep_command->callback([arguments] { sweep(*arguments); });
 }
 

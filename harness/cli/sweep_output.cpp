@@ -18,7 +18,12 @@ void plot_sweep(const std::filesystem::path& out_dir) {
       run_plot_script("plot_sweep.py", "SOFTBENCH_PLOT_SWEEP", out_dir / "sweep.json", out_dir));
 }
 
-void print_budgets(const std::vector<SweepRecord>& records) {
+void print_budgets(const std::vector<SweepRecord>& records,
+                   const ReferenceConvergence& convergence) {
+  if (const std::string refusal = ranking_refusal(convergence); !refusal.empty()) {
+    std::cout << "not ranked: " << refusal << "\n";
+    return;
+  }
   for (const double budget : {0.01, 0.05, 0.2}) {
     const std::optional<SweepRecord> best = fastest_within(records, budget);
     std::cout << "error <= " << 100 * budget << "%: ";

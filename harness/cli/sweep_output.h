@@ -15,7 +15,9 @@ namespace softbench::harness {
 std::filesystem::path default_sweep_dir(const std::string& scene_name);
 /// Draws out_dir/sweep.png from out_dir/sweep.json (tools/plot_sweep.py).
 void plot_sweep(const std::filesystem::path& out_dir);
-/// The fastest run within 1%, 5% and 20% error, one line each, on stdout.
-void print_budgets(const std::vector<SweepRecord>& records);
+/// The fastest run within 1%, 5% and 20% error, one line each, on stdout; against a reference
+/// that did not converge, why nothing is ranked.
+void print_budgets(const std::vector<SweepRecord>& records,
+                   const ReferenceConvergence& convergence);
 
 }  // namespace softbench::harness

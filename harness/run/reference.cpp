@@ -10,6 +10,8 @@
 #include "models/json_file.h"
 
 #include <fstream>
+#include <limits>
+#include <sstream>
 
 namespace softbench::harness {
 namespace {
@@ -96,6 +98,71 @@ ReferenceRun reference_run(const scenes::Scene& scene,
   const std::string text = to_json(reference).dump() + "\n";
   write_file_atomically(cache, [&](std::ostream& out) { out << text; });
   return reference;
+}
+
+ReferenceConvergence reference_convergence(const scenes::Scene& scene,
+                                           const SceneMesh& mesh,
+                                           const ReferenceSettings& settings,
+                                           const std::filesystem::path& cache_dir,
+                                           const ReferenceRun& reference) {
+  ReferenceSettings finer = settings;
+  finer.substeps = 2 * settings.substeps;
+  const ReferenceRun fine = reference_run(scene, mesh, finer, cache_dir);
+  std::vector<Snapshot> snapshots;
+  for (std::size_t i = 0; i < reference.times.size(); ++i) {
+    snapshots.push_back({reference.times[i], reference.positions[i], reference.volumes[i]});
+  }
+  ReferenceConvergence convergence;
+  convergence.checked = true;
+  convergence.substeps = settings.substeps;
+  convergence.finer_substeps = finer.substeps;
+  convergence.difference =
+      accuracy_against(snapshots, reference.peak_tool_force, fine, mesh.body.rest_positions())
+          .rms_error;
+  if (scene.requirements && scene.requirements->accuracy) {
+    convergence.budget = *scene.requirements->accuracy;
+  }
+  return convergence;
+}
+
+std::string ranking_refusal(const ReferenceConvergence& convergence) {
+  if (!convergence.checked || convergence.converged()) {
+    return "";
+  }
+  std::ostringstream why;
+  why << "the reference has not converged: at " << convergence.substeps << " and "
+      << convergence.finer_substeps << " substeps it differs by " << 100.0 * convergence.difference
+      << "% (rms), more than the " << 100.0 * convergence.budget
+      << "% the scene requires; the models' errors against it are its own. Damp the scene, raise "
+         "--reference-substeps, or rank anyway with --trust-reference";
+  return why.str();
+}
+
+nlohmann::json to_json(const ReferenceConvergence& convergence) {
+  return {{"checked", convergence.checked},
+          {"substeps", convergence.substeps},
+          {"finer_substeps", convergence.finer_substeps},
+          {"difference", convergence.difference},
+          {"budget", convergence.budget},
+          {"converged", convergence.converged()}};
+}
+
+ReferenceConvergence reference_convergence_from_json(const nlohmann::json& json,
+                                                     const std::string& where) {
+  try {
+    ReferenceConvergence convergence;
+    convergence.checked = json.at("checked").get<bool>();
+    convergence.substeps = json.at("substeps").get<int>();
+    convergence.finer_substeps = json.at("finer_substeps").get<int>();
+    // A difference that is not finite was written as null.
+    convergence.difference = json.at("difference").is_null()
+                                 ? std::numeric_limits<double>::infinity()
+                                 : json.at("difference").get<double>();
+    convergence.budget = json.at("budget").get<double>();
+    return convergence;
+  } catch (const nlohmann::json::exception& error) {
+    throw InputError(where + ": not a reference convergence record: " + error.what());
+  }
 }
 
 }  // namespace softbench::harness

@@ -35,4 +35,37 @@ ReferenceRun reference_run(const scenes::Scene& scene,
                            const ReferenceSettings& settings,
                            const std::filesystem::path& cache_dir);
 
+/// The accuracy a reference must have converged to when the scene states none
+/// (Requirements::accuracy): the finest error budget a sweep ranks models at.
+inline constexpr double kDefaultReferenceBudget = 0.01;
+
+/// Whether a reference has converged: the same scene at twice its substeps, compared at its
+/// times by the measure models are ranked by (Accuracy::rms_error). On an undamped scene the
+/// two differ by the phase of an oscillation that neither time step resolves, and every model's
+/// "error" against either is that phase, not the model's: a sweep does not rank models on it.
+struct ReferenceConvergence {
+  /// False when the sweep was told to trust the reference (nothing was run to check it).
+  bool checked = false;
+  int substeps = 0;         ///< the reference's
+  int finer_substeps = 0;   ///< the run it was compared with
+  double difference = 0.0;  ///< the reference's rms_error against the finer run
+  double budget = kDefaultReferenceBudget;  ///< the scene's accuracy requirement, or the default
+  bool converged() const { return difference <= budget; }
+};
+
+/// Runs (or reads from cache_dir) the finer reference and compares `reference` with it.
+ReferenceConvergence reference_convergence(const scenes::Scene& scene,
+                                           const SceneMesh& mesh,
+                                           const ReferenceSettings& settings,
+                                           const std::filesystem::path& cache_dir,
+                                           const ReferenceRun& reference);
+
+/// Why models are not ranked against a reference that did not converge; empty when they are
+/// (converged, or trusted unchecked).
+std::string ranking_refusal(const ReferenceConvergence& convergence);
+
+nlohmann::json to_json(const ReferenceConvergence& convergence);
+ReferenceConvergence reference_convergence_from_json(const nlohmann::json& json,
+                                                     const std::string& where);
+
 }  // namespace softbench::harness

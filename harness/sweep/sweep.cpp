@@ -270,8 +270,18 @@ std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOption
   const SceneMesh mesh = read_scene_mesh(scene);
   const std::vector<SweepPoint> points =
       sweep_grid(scene, mesh.content_hash, options.axes, options.models, options.reference.model);
-  const ReferenceRun reference =
-      reference_run(scene, mesh, options.reference, options.out_dir / "reference");
+  const std::filesystem::path reference_dir =
+      options.reference_dir.empty() ? options.out_dir / "reference" : options.reference_dir;
+  const ReferenceRun reference = reference_run(scene, mesh, options.reference, reference_dir);
+  ReferenceConvergence convergence;
+  if (!options.trust_reference) {
+    convergence =
+        reference_convergence(scene, mesh, options.reference, reference_dir, reference);
+  }
+  write_reference_convergence(options.out_dir, convergence);
+  if (options.reference_only) {
+    return {};
+  }
   const std::filesystem::path runs = options.out_dir / "runs";
   for (std::size_t i = 0; i < points.size(); ++i) {
     const SweepPoint& point = points[i];
@@ -289,6 +299,23 @@ std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOption
     }
   }
   return read_sweep_runs({options.out_dir});
+}
+
+void write_reference_convergence(const std::filesystem::path& dir,
+                                 const ReferenceConvergence& convergence) {
+  std::filesystem::create_directories(dir);
+  const std::string text = to_json(convergence).dump(2) + "\n";
+  write_file_atomically(dir / kReferenceConvergenceFile, [&](std::ostream& out) { out << text; });
+}
+
+ReferenceConvergence read_reference_convergence(const std::vector<std::filesystem::path>& dirs) {
+  for (const std::filesystem::path& dir : dirs) {
+    const std::filesystem::path file = dir / kReferenceConvergenceFile;
+    if (std::filesystem::exists(file)) {
+      return reference_convergence_from_json(read_json_file(file.string()), file.string());
+    }
+  }
+  return {};
 }
 
 std::vector<SweepRecord> pareto_front(const std::vector<SweepRecord>& records) {
@@ -324,19 +351,27 @@ std::optional<SweepRecord> fastest_within(const std::vector<SweepRecord>& record
 
 void write_sweep_table(const std::filesystem::path& out_dir,
                        const std::string& scene_name,
-                       const std::vector<SweepRecord>& records) {
+                       const std::vector<SweepRecord>& records,
+                       const ReferenceConvergence& convergence) {
+  const std::string refusal = ranking_refusal(convergence);
   nlohmann::json json = {{"scene", scene_name},
+                         {"reference_convergence", to_json(convergence)},
+                         {"ranking_refused", refusal.empty() ? nlohmann::json(nullptr)
+                                                             : nlohmann::json(refusal)},
                          {"records", nlohmann::json::array()},
                          {"pareto", nlohmann::json::array()},
                          {"fastest_within", nlohmann::json::object()}};
   for (const SweepRecord& record : records) {
     json["records"].push_back(to_json(record));
   }
-  for (const SweepRecord& record : pareto_front(records)) {
+  const std::vector<SweepRecord> ranked =
+      refusal.empty() ? pareto_front(records) : std::vector<SweepRecord>{};
+  for (const SweepRecord& record : ranked) {
     json["pareto"].push_back(record.point.id);
   }
   for (const double budget : {0.01, 0.05, 0.2}) {
-    const std::optional<SweepRecord> best = fastest_within(records, budget);
+    const std::optional<SweepRecord> best =
+        refusal.empty() ? fastest_within(records, budget) : std::nullopt;
     json["fastest_within"][std::to_string(static_cast<int>(std::lround(100 * budget))) + "%"] =
         best ? to_json(*best) : nlohmann::json(nullptr);
   }

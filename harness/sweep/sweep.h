@@ -72,24 +72,46 @@ struct SweepOptions {
   int shards = 1;
   std::filesystem::path out_dir;  ///< runs/<id>.json, reference/, sweep.json, sweep.csv
   ReferenceSettings reference;
+  /// Where the reference (and the finer run that checks it) is cached; empty: out_dir/reference.
+  /// Shards given one shared folder, filled before they start, compute it once between them.
+  std::filesystem::path reference_dir;
+  /// Rank models on the reference without checking that it converged (ReferenceConvergence).
+  bool trust_reference = false;
+  /// Compute the reference and its check only, no model runs: what a cluster runs once
+  /// before the shards.
+  bool reference_only = false;
   std::ostream* progress = nullptr;
 };
 
-/// Runs the points of this shard that have no file yet under out_dir/runs, then (re)writes the
-/// table of every run found there. Returns every record found.
+/// The file in a sweep's folder that records the reference's convergence check.
+inline constexpr const char* kReferenceConvergenceFile = "reference_convergence.json";
+
+/// Computes or reads the reference, checks its convergence (unless trusted; recorded in
+/// out_dir/kReferenceConvergenceFile), then runs the points of this shard that have no file yet
+/// under out_dir/runs. Returns every record found there (none with reference_only).
 std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOptions& options);
 
 /// The records of one or more runs folders (sweep output dirs), deduplicated by id.
 std::vector<SweepRecord> read_sweep_runs(const std::vector<std::filesystem::path>& dirs);
 
+/// Records `convergence` in dir/kReferenceConvergenceFile (atomically).
+void write_reference_convergence(const std::filesystem::path& dir,
+                                 const ReferenceConvergence& convergence);
+/// The reference's convergence check of the first of `dirs` that has one (shards share one
+/// reference); unchecked when none has (a sweep from before the check).
+ReferenceConvergence read_reference_convergence(const std::vector<std::filesystem::path>& dirs);
+
 /// Per model, the runs no other run of that model beats on both speed and rms_error.
 std::vector<SweepRecord> pareto_front(const std::vector<SweepRecord>& records);
 
-/// sweep.json (records, Pareto front, per error budget the fastest run) and sweep.csv; the
-/// sweep command draws sweep.png from sweep.json with tools/plot_sweep.py.
+/// sweep.json (records, the reference's convergence, Pareto front, per error budget the fastest
+/// run) and sweep.csv; the sweep command draws sweep.png from sweep.json with
+/// tools/plot_sweep.py. Against a reference that did not converge (ranking_refusal) the front
+/// and the budgets are empty and sweep.json says why.
 void write_sweep_table(const std::filesystem::path& out_dir,
                        const std::string& scene_name,
-                       const std::vector<SweepRecord>& records);
+                       const std::vector<SweepRecord>& records,
+                       const ReferenceConvergence& convergence);
 
 /// The fastest stable record whose rms_error is within `budget` (relative), if any.
 std::optional<SweepRecord> fastest_within(const std::vector<SweepRecord>& records, double budget);

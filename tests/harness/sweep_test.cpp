@@ -3,7 +3,9 @@
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_io.h"
+#include "harness/run/scene_mesh.h"
 #include "harness/sweep/recommend.h"
+#include "models/json_file.h"
 #include "models/model_registry.h"
 #include "scenes/scene.h"
 #include "tests/test_meshes.h"
@@ -203,7 +205,7 @@ TEST(SweepTable, CsvRowsLineUpWithTheHeader) {
   SweepRecord r = record("a", 120, 0.25);
   r.point.dt = 0.5;
   r.point.settings = {{"cg_tolerance", 0.01}, {"solver", "cg"}};
-  write_sweep_table(dir.path(), "scene", {r});
+  write_sweep_table(dir.path(), "scene", {r}, {});
   std::ifstream in(dir.path() / "sweep.csv");
   std::string header, row;
   std::getline(in, header);
@@ -303,5 +305,104 @@ TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
   EXPECT_NE(merged[0].point.id, merged[1].point.id);
 }
 
+// A sweep ranks models only against a reference that converged: the reference at twice its
+// substeps moves the same, within the scene's accuracy. A damped bar sagging to rest does; an
+// undamped one swinging under gravity does not (implicit Euler's numerical damping and phase
+// differ at the two time steps), and its ranking is refused, in sweep.json and by recommend,
+// unless the reference is trusted.
+TEST_F(SweepTest, RanksOnlyAgainstAReferenceThatConverged) {
+  const auto bar = [&](double damping) {
+    return scenes::load_scene(dir_.write("bar_" + std::to_string(damping) + ".json", R"({
+      "name": "bar",
+      "mesh": "bar.msh",
+      "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
+      "gravity": [0, 0, -9.81],
+      "time": {"dt": 0.02, "duration": 0.4},
+      "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
+      "requirements": {"steps_per_second": 10, "accuracy": 0.05},
+      "models": {"corotational_fem": {"rayleigh_mass": )" + std::to_string(damping) + "}}}"));
+  };
+  ReferenceSettings settings;
+  settings.model = "corotational_fem";
+  settings.substeps = 2;
+  settings.times = 4;
+  const auto check = [&](const scenes::Scene& scene) {
+    const SceneMesh mesh = read_scene_mesh(scene);
+    const std::filesystem::path cache = dir_.path() / ("cache_" + scene.source.stem().string());
+    return reference_convergence(scene, mesh, settings, cache,
+                                 reference_run(scene, mesh, settings, cache));
+  };
+  // Measured: 0.9% damped (60 /s), 14% undamped, against the scene's 5%.
+  const ReferenceConvergence damped = check(bar(60.0));
+  EXPECT_TRUE(damped.checked);
+  EXPECT_EQ(damped.finer_substeps, 4);
+  EXPECT_DOUBLE_EQ(damped.budget, 0.05);
+  EXPECT_LT(damped.difference, 0.02);
+  EXPECT_EQ(ranking_refusal(damped), "");
+  const ReferenceConvergence swinging = check(bar(0.0));
+  EXPECT_GT(swinging.difference, 0.1);
+  EXPECT_THAT(ranking_refusal(swinging), HasSubstr("the reference has not converged: at 2 and 4 "
+                                                   "substeps it differs by"));
+
+  // The sweep on the swinging bar runs its models but ranks none of them; trusted, it ranks.
+  SweepOptions options;
+  options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
+  options.models = {"corotational_fem"};
+  options.reference = settings;
+  options.out_dir = dir_.path() / "swinging";
+  const scenes::Scene scene = bar(0.0);
+  const std::vector<SweepRecord> records = run_sweep(scene, options);
+  ASSERT_EQ(records.size(), 2u);
+  const ReferenceConvergence recorded = read_reference_convergence({options.out_dir});
+  EXPECT_DOUBLE_EQ(recorded.difference, swinging.difference);
+  write_sweep_table(options.out_dir, "bar", records, recorded);
+  const nlohmann::json table = read_json_file((options.out_dir / "sweep.json").string());
+  EXPECT_THAT(table["ranking_refused"].get<std::string>(), HasSubstr("has not converged"));
+  EXPECT_TRUE(table["pareto"].empty());
+  EXPECT_TRUE(table["fastest_within"]["20%"].is_null());
+  options.trust_reference = true;
+  options.out_dir = dir_.path() / "trusted";
+  const std::vector<SweepRecord> trusted = run_sweep(scene, options);
+  const ReferenceConvergence unchecked = read_reference_convergence({options.out_dir});
+  EXPECT_FALSE(unchecked.checked);
+  write_sweep_table(options.out_dir, "bar", trusted, unchecked);
+  EXPECT_FALSE(read_json_file((options.out_dir / "sweep.json").string())["pareto"].empty());
+}
+
+// On a cluster the reference is computed once, into a shared folder, before the shards start:
+// the shards read it (and its check) and compute neither again.
+TEST_F(SweepTest, ShardsShareOneReferenceComputedBeforeThem) {
+  SweepOptions options;
+  options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
+  options.models = {"corotational_fem"};
+  options.reference.model = "corotational_fem";
+  options.reference.substeps = 2;
+  options.reference.times = 4;
+  options.reference_dir = dir_.path() / "shared_reference";
+  options.reference_only = true;
+  options.out_dir = dir_.path() / "reference_step";
+  EXPECT_TRUE(run_sweep(scene(), options).empty());
+  // The reference and the finer run that checked it.
+  std::map<std::filesystem::path, std::filesystem::file_time_type> written;
+  for (const auto& entry : std::filesystem::directory_iterator(options.reference_dir)) {
+    written[entry.path()] = entry.last_write_time();
+  }
+  EXPECT_EQ(written.size(), 2u);
+  options.reference_only = false;
+  for (int shard = 0; shard < 2; ++shard) {
+    SweepOptions part = options;
+    part.shard = shard;
+    part.shards = 2;
+    part.out_dir = dir_.path() / ("shard" + std::to_string(shard));
+    EXPECT_EQ(run_sweep(scene(), part).size(), 1u);
+    EXPECT_FALSE(std::filesystem::exists(part.out_dir / "reference"));
+    EXPECT_TRUE(read_reference_convergence({part.out_dir}).checked);
+  }
+  std::map<std::filesystem::path, std::filesystem::file_time_type> after;
+  for (const auto& entry : std::filesystem::directory_iterator(options.reference_dir)) {
+    after[entry.path()] = entry.last_write_time();
+  }
+  EXPECT_EQ(after, written);
+}
 }  // namespace
 }  // namespace softbench::harness
