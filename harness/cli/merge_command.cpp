@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // `softbench merge DIR ... --out DIR`: join sweep shards into one table.
+#include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
 #include "harness/cli/sweep_output.h"
 #include "harness/sweep/sweep.h"
@@ -12,7 +13,7 @@
 namespace softbench::harness {
 namespace {
 
-void merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
+void merge(const std::vector<std::string>& dirs, const std::string& out_dir, bool no_plots) {
   std::vector<std::filesystem::path> paths(dirs.begin(), dirs.end());
   const std::vector<SweepRecord> records = read_sweep_runs(paths);
   const std::filesystem::path out(out_dir);
@@ -24,7 +25,9 @@ void merge(const std::vector<std::string>& dirs, const std::string& out_dir) {
   write_sweep_table(out, "merged", records, convergence);
   std::cout << records.size() << " runs merged into " << (out / "sweep.csv").string() << "\n";
   print_budgets(records, convergence);
-  plot_sweep(out);
+  if (!no_plots) {
+    plot_sweep(out);
+  }
 }
 
 }  // namespace
@@ -36,7 +39,10 @@ void add_merge_command(CLI::App& app) {
       app.add_subcommand("merge", "Join sweep folders (shards) into one table");
   merge_command->add_option("dirs", *merge_dirs, "sweep output folders")->required();
   merge_command->add_option("--out", *merge_out, "merged output folder")->required();
-  merge_command->callback([merge_dirs, merge_out] { merge(*merge_dirs, *merge_out); });
+  auto no_plots = std::make_shared<bool>(false);
+  add_no_plots_flag(*merge_command, *no_plots, "sweep.json and sweep.csv");
+  merge_command->callback(
+      [merge_dirs, merge_out, no_plots] { merge(*merge_dirs, *merge_out, *no_plots); });
 }
 
 }  // namespace softbench::harness

@@ -27,6 +27,7 @@ struct SweepArguments {
   std::string reference_dir;
   bool trust_reference = false;
   bool reference_only = false;
+  bool no_plots = false;
 };
 
 // "i/N"; else a Slurm array task (SLURM_ARRAY_TASK_ID of SLURM_ARRAY_TASK_COUNT); else 0/1.
@@ -80,7 +81,9 @@ void sweep(const SweepArguments& arguments) {
   write_sweep_table(options.out_dir, scene.name, records, convergence);
   std::cout << records.size() << " runs in " << (options.out_dir / "sweep.csv").string() << "\n";
   print_budgets(records, convergence);
-  plot_sweep(options.out_dir);
+  if (!arguments.no_plots) {
+    plot_sweep(options.out_dir);
+  }
 }
 
 }  // namespace
@@ -120,6 +123,7 @@ void add_sweep_command(CLI::App& app) {
   sweep_command->add_flag("--reference-only", arguments->reference_only,
                           "compute the reference and its check into --reference-dir, run no "
                           "model (before a cluster's shards start)");
+  add_no_plots_flag(*sweep_command, arguments->no_plots, "sweep.json and sweep.csv");
   sweep_command->callback([arguments] { sweep(*arguments); });
 }
 
