@@ -2,8 +2,8 @@
 // Ctrl-C and SIGTERM (a batch system's time limit) stop a command between two steps, not in the
 // middle of writing a file: the handler only raises a flag, every simulation loop checks it once
 // a step, and the command ends with one line and status 130. `softbench run` writes what it
-// measured up to the stop, marked interrupted; a command that compares or fits runs writes
-// nothing of the unfinished work. Output folders land whole or not at all (StagedFolder).
+// measured up to the stop, and `softbench soak` what its whole cycles measured, marked
+// interrupted; a command that compares or fits runs writes nothing of the unfinished work. Output folders land whole or not at all (StagedFolder).
 #pragma once
 
 #include <stdexcept>

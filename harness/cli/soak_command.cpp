@@ -2,6 +2,7 @@
 // `softbench soak SCENE --model NAME [--steps N] [--out DIR] [--mesh PATH]`.
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
+#include "harness/interrupt.h"
 #include "harness/report/soak_report.h"
 #include "harness/report/staged_folder.h"
 #include "harness/soak/soak.h"
@@ -34,11 +35,19 @@ void soak(const SoakArguments& arguments) {
   options.steps = arguments.steps;
   options.progress = &std::cerr;
   options.live_progress = live_progress();
+  // Ctrl-C or SIGTERM (a batch system's time limit) ends the soak after the current step; what
+  // the whole cycles measured is written, marked interrupted, and the command ends with 130.
+  options.keep_interrupted = true;
   const SoakReport report = run_soak(scene, mesh, options);
   write_soak(out.path(), report);
   out.commit();
   std::cout << soak_markdown(report) << "\nwrote " << (out.path() / "soak.md").string() << " and "
             << (out.path() / "soak.json").string() << "\n";
+  if (report.interrupted) {
+    throw Interrupted("stopped after step " + std::to_string(report.steps_run) + " of "
+                      + std::to_string(report.steps_planned) + "; what the whole cycles measured "
+                      "is in " + (out.path() / "soak.json").string() + ", marked interrupted");
+  }
 }
 
 }  // namespace

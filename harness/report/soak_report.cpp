@@ -42,6 +42,7 @@ nlohmann::json soak_json(const SoakReport& report) {
   json["steps_planned"] = report.steps_planned;
   json["steps_run"] = report.steps_run;
   json["stable"] = report.stable;
+  json["interrupted"] = report.interrupted;
   json["diverged_at_step"] =
       report.diverged_at_step ? nlohmann::json(*report.diverged_at_step) : nlohmann::json(nullptr);
   json["divergence"] = report.divergence;
@@ -69,6 +70,9 @@ std::string soak_markdown(const SoakReport& report) {
       << (report.stable ? std::string("stable")
                         : "UNSTABLE at step " + std::to_string(*report.diverged_at_step) + " ("
                               + report.divergence + ")")
+      << (report.interrupted ? "; interrupted (Ctrl-C or SIGTERM): the whole cycles before the "
+                               "stop"
+                             : "")
       << ".\n\n";
   out << "| measure | value |\n|---|---|\n";
   out << "| resident memory after warm-up (first tenth of the cycles) | "

@@ -3,6 +3,7 @@
 
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
+#include "harness/interrupt.h"
 #include "harness/run/decimated_series.h"
 #include "harness/run/metrics.h"
 #include "harness/run/run_monitor.h"
@@ -103,7 +104,8 @@ SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const Soa
   std::optional<Eigen::Matrix3Xd> first_end;
   const Clock::time_point soak_start = Clock::now();
   long long step_total = 0;
-  for (int cycle = 1; step_total < options.steps && report.stable; ++cycle) {
+  for (int cycle = 1; step_total < options.steps && report.stable && !report.interrupted;
+       ++cycle) {
     // A fresh loading each cycle (the tool back at its start, the contact's and the grasp's
     // state new); the body goes on from where the last cycle left it.
     SceneStepper stepper(scene, mesh);
@@ -120,8 +122,18 @@ SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const Soa
       ++step_total;
       ++steps_this_cycle;
       // SoakOptions::steps is at most kMaxSoakSteps: the step number fits an int.
-      if (!monitor.after_step(static_cast<int>(step_total - 1), stats, *body,
-                              stepper.constraints())) {
+      bool within_limits = true;
+      try {
+        within_limits = monitor.after_step(static_cast<int>(step_total - 1), stats, *body,
+                                           stepper.constraints());
+      } catch (const Interrupted&) {
+        if (!options.keep_interrupted) {
+          throw;
+        }
+        report.interrupted = true;
+        break;
+      }
+      if (!within_limits) {
         report.stable = false;
         report.diverged_at_step = step_total - 1;
         report.divergence = monitor.divergence()->reason;
@@ -130,6 +142,9 @@ SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const Soa
       stepper.observe(step, *body);
       record.peak_tool_force = std::max(record.peak_tool_force, stepper.loading().tool_force());
       record.max_speed = std::max(record.max_speed, monitor.free_speed());
+    }
+    if (report.interrupted) {
+      break;  // a cycle cut short ends nowhere the others do: its measures are not kept
     }
     const double wall = std::chrono::duration<double>(Clock::now() - cycle_start).count();
     record.steps = step_total;

@@ -24,6 +24,10 @@ struct SoakOptions {
   long long steps = 1000000;  ///< steps in all, over as many cycles as they make
   std::ostream* progress = nullptr;
   bool live_progress = false;
+  /// Ctrl-C or SIGTERM ends the soak after the current step and run_soak returns what the whole
+  /// cycles before it measured, marked interrupted (a stopped ten-hour soak keeps its hours);
+  /// false: Interrupted is thrown.
+  bool keep_interrupted = false;
 };
 
 /// The end of one cycle (the scene's duration): the body is back where the scene leaves it
@@ -55,6 +59,9 @@ struct SoakReport {
   long long steps_planned = 0;
   long long steps_run = 0;
   bool stable = true;
+  /// Stopped by Ctrl-C or SIGTERM after steps_run steps (SoakOptions::keep_interrupted): the
+  /// cycles are the whole ones before the stop.
+  bool interrupted = false;
   std::optional<long long> diverged_at_step;
   std::string divergence;
   /// Every cycle up to the series' capacity, then an even thinning over the whole soak.
@@ -77,7 +84,7 @@ struct SoakReport {
 /// Soaks `model` on `scene`: cycles of the scene's steps (a fresh loading each cycle, the body
 /// carried on) until options.steps, judged every step by RunMonitor (a blow-up ends the soak
 /// and is reported). Throws InputError for an unknown model or a scene with fewer than two
-/// steps, Interrupted on Ctrl-C.
+/// steps, Interrupted on Ctrl-C unless options.keep_interrupted.
 SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const SoakOptions& options);
 
 /// Fills the summary fields of `report` from its cycles.

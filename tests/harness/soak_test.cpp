@@ -4,6 +4,7 @@
 #include "harness/soak/soak.h"
 
 #include "geometry/input_error.h"
+#include "harness/interrupt.h"
 #include "harness/report/soak_report.h"
 #include "scenes/scene.h"
 #include "tests/harness/bar_sag_scene.h"
@@ -12,6 +13,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <streambuf>
 #include <string>
 
 namespace softbench::harness {
@@ -72,6 +74,38 @@ TEST_F(SoakTest, ReportsABlowUpAndStops) {
   EXPECT_LT(report.steps_run, options.steps);
   EXPECT_EQ(report.steps_run, *report.diverged_at_step + 1);
   EXPECT_THAT(soak_markdown(report), HasSubstr("UNSTABLE at step"));
+}
+
+// Ctrl-C during a long soak keeps what the whole cycles before it measured. The stop is asked
+// for as the first cycle's progress line is written, so it lands in the second cycle.
+TEST_F(SoakTest, AnInterruptedSoakKeepsItsWholeCycles) {
+  struct RaisesTheFlag : std::streambuf {
+    int overflow(int c) override {
+      request_interrupt();
+      return c;
+    }
+  } raises;
+  std::ostream progress(&raises);
+  const scenes::Scene bar = scene(R"({"corotational_fem": {"rayleigh_mass": 5.0}})");
+  SoakOptions options;
+  options.model = "corotational_fem";
+  options.steps = 90 * 10;
+  options.progress = &progress;
+  options.live_progress = true;  // a line every cycle
+  options.keep_interrupted = true;
+  const SoakReport report = run_soak(bar, read_scene_mesh(bar), options);
+  clear_interrupt();
+  EXPECT_TRUE(report.interrupted);
+  EXPECT_TRUE(report.stable);
+  ASSERT_EQ(report.cycles.size(), 1u);
+  EXPECT_EQ(report.cycles.front().steps, 90);
+  EXPECT_EQ(report.steps_run, 91);  // the second cycle's first step, then the stop
+  EXPECT_TRUE(soak_json(report)["interrupted"].get<bool>());
+  EXPECT_THAT(soak_markdown(report), HasSubstr("interrupted"));
+  // Without keep_interrupted the stop is an Interrupted, nothing returned.
+  options.keep_interrupted = false;
+  EXPECT_THROW(run_soak(bar, read_scene_mesh(bar), options), Interrupted);
+  clear_interrupt();
 }
 
 TEST_F(SoakTest, KeepsABoundedNumberOfCycles) {
