@@ -121,6 +121,7 @@ ReferenceConvergence reference_convergence(const scenes::Scene& scene,
           .rms_error;
   if (scene.requirements && scene.requirements->accuracy) {
     convergence.budget = *scene.requirements->accuracy;
+    convergence.budget_from_scene = true;
   }
   return convergence;
 }
@@ -133,7 +134,9 @@ std::string ranking_refusal(const ReferenceConvergence& convergence) {
   why << "the reference has not converged: at " << convergence.substeps << " and "
       << convergence.finer_substeps << " substeps it differs by " << 100.0 * convergence.difference
       << "% (rms), more than the " << 100.0 * convergence.budget
-      << "% the scene requires; the models' errors against it are its own. Damp the scene, raise "
+      << (convergence.budget_from_scene ? "% the scene requires"
+                                        : "% a scene without an accuracy requirement is held to")
+      << "; the models' errors against it are its own. Damp the scene, raise "
          "--reference-substeps, or rank anyway with --trust-reference";
   return why.str();
 }
@@ -144,6 +147,7 @@ nlohmann::json to_json(const ReferenceConvergence& convergence) {
           {"finer_substeps", convergence.finer_substeps},
           {"difference", convergence.difference},
           {"budget", convergence.budget},
+          {"budget_from_scene", convergence.budget_from_scene},
           {"converged", convergence.converged()}};
 }
 
@@ -159,6 +163,7 @@ ReferenceConvergence reference_convergence_from_json(const nlohmann::json& json,
                                  ? std::numeric_limits<double>::infinity()
                                  : json.at("difference").get<double>();
     convergence.budget = json.at("budget").get<double>();
+    convergence.budget_from_scene = json.at("budget_from_scene").get<bool>();
     return convergence;
   } catch (const nlohmann::json::exception& error) {
     throw InputError(where + ": not a reference convergence record: " + error.what());

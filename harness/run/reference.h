@@ -50,6 +50,7 @@ struct ReferenceConvergence {
   int finer_substeps = 0;   ///< the run it was compared with
   double difference = 0.0;  ///< the reference's rms_error against the finer run
   double budget = kDefaultReferenceBudget;  ///< the scene's accuracy requirement, or the default
+  bool budget_from_scene = false;           ///< the scene states it (Requirements::accuracy)
   bool converged() const { return difference <= budget; }
 };
 

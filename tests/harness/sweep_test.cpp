@@ -337,12 +337,14 @@ TEST_F(SweepTest, RanksOnlyAgainstAReferenceThatConverged) {
   EXPECT_TRUE(damped.checked);
   EXPECT_EQ(damped.finer_substeps, 4);
   EXPECT_DOUBLE_EQ(damped.budget, 0.05);
+  EXPECT_TRUE(damped.budget_from_scene);
   EXPECT_LT(damped.difference, 0.02);
   EXPECT_EQ(ranking_refusal(damped), "");
   const ReferenceConvergence swinging = check(bar(0.0));
   EXPECT_GT(swinging.difference, 0.1);
   EXPECT_THAT(ranking_refusal(swinging), HasSubstr("the reference has not converged: at 2 and 4 "
                                                    "substeps it differs by"));
+  EXPECT_THAT(ranking_refusal(swinging), HasSubstr("more than the 5% the scene requires"));
 
   // The sweep on the swinging bar runs its models but ranks none of them; trusted, it ranks.
   SweepOptions options;
