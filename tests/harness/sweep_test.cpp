@@ -48,8 +48,10 @@ class SweepTest : public ::testing::Test {
  protected:
   SweepTest() { write_msh(dir_.path() / "bar.msh", test::box_tets(5, 1, 1, 0.1, 0.02, 0.02)); }
 
-  scenes::Scene scene() const {
-    return scenes::load_scene(dir_.write("bar.json", R"({
+  scenes::Scene scene(const std::string& models = R"({"corotational_fem": {"rayleigh_mass": 2.0},
+                 "mass_spring": {"stiffness_from": "young_modulus", "damping": 0.5}})",
+                      const std::string& file = "bar.json") const {
+    return scenes::load_scene(dir_.write(file, R"({
       "name": "bar",
       "mesh": "bar.msh",
       "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
@@ -57,9 +59,29 @@ class SweepTest : public ::testing::Test {
       "time": {"dt": 0.02, "duration": 0.4},
       "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
       "requirements": {"steps_per_second": 10, "accuracy": 0.05},
-      "models": {"corotational_fem": {"rayleigh_mass": 2.0},
-                 "mass_spring": {"stiffness_from": "young_modulus", "damping": 0.5}}
-    })"));
+      "models": )" + models + "}"));
+  }
+
+  // corotational_fem at dt 1/50 and 1/100 against the same model at two substeps of the
+  // scene's dt (0.01 s), compared at four times, into `folder`.
+  SweepOptions two_dt_sweep(const std::string& folder) const {
+    SweepOptions options;
+    options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
+    options.models = {"corotational_fem"};
+    options.reference.model = "corotational_fem";
+    options.reference.substeps = 2;
+    options.reference.times = 4;
+    options.out_dir = dir_.path() / folder;
+    return options;
+  }
+
+  // Shard `shard` of two of `options`, into its own folder.
+  SweepOptions half(const SweepOptions& options, int shard) const {
+    SweepOptions part = options;
+    part.shard = shard;
+    part.shards = 2;
+    part.out_dir = dir_.path() / ("shard" + std::to_string(shard));
+    return part;
   }
 
   test::TempDir dir_;
@@ -261,15 +283,9 @@ TEST(Recommend, PicksTheFastestRunMeetingEveryRequirementAndSaysWhatOthersMiss) 
 }
 
 TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
-  SweepOptions options;
-  options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
-  options.models = {"corotational_fem"};
   // The reference is the same model at dt / 2 = 0.01 s: the dt = 1/100 run is that very
   // computation (error 0), the dt = 1/50 one is not.
-  options.reference.model = "corotational_fem";
-  options.reference.substeps = 2;
-  options.reference.times = 4;
-  options.out_dir = dir_.path() / "full";
+  const SweepOptions options = two_dt_sweep("full");
   const std::vector<SweepRecord> records = run_sweep(scene(), options);
   ASSERT_EQ(records.size(), 2u);
   const SweepRecord& coarse = records[0].point.dt > records[1].point.dt ? records[0] : records[1];
@@ -293,10 +309,7 @@ TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
   // Two shards run disjoint halves; merged they are the whole sweep.
   std::vector<std::filesystem::path> shards;
   for (int shard = 0; shard < 2; ++shard) {
-    SweepOptions part = options;
-    part.shard = shard;
-    part.shards = 2;
-    part.out_dir = dir_.path() / ("shard" + std::to_string(shard));
+    const SweepOptions part = half(options, shard);
     EXPECT_EQ(run_sweep(scene(), part).size(), 1u);
     shards.push_back(part.out_dir);
   }
@@ -312,20 +325,11 @@ TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
 // unless the reference is trusted.
 TEST_F(SweepTest, RanksOnlyAgainstAReferenceThatConverged) {
   const auto bar = [&](double damping) {
-    return scenes::load_scene(dir_.write("bar_" + std::to_string(damping) + ".json", R"({
-      "name": "bar",
-      "mesh": "bar.msh",
-      "material": {"young_modulus": 50000, "poisson_ratio": 0.3, "density": 1000},
-      "gravity": [0, 0, -9.81],
-      "time": {"dt": 0.02, "duration": 0.4},
-      "fixed": {"box": {"min": [-0.001, -1, -1], "max": [0.001, 1, 1]}},
-      "requirements": {"steps_per_second": 10, "accuracy": 0.05},
-      "models": {"corotational_fem": {"rayleigh_mass": )" + std::to_string(damping) + "}}}"));
+    const std::string name = "bar_" + std::to_string(damping);
+    return scene(R"({"corotational_fem": {"rayleigh_mass": )" + std::to_string(damping) + "}}",
+                 name + ".json");
   };
-  ReferenceSettings settings;
-  settings.model = "corotational_fem";
-  settings.substeps = 2;
-  settings.times = 4;
+  const ReferenceSettings settings = two_dt_sweep("").reference;
   const auto check = [&](const scenes::Scene& scene) {
     const SceneMesh mesh = read_scene_mesh(scene);
     const std::filesystem::path cache = dir_.path() / ("cache_" + scene.source.stem().string());
@@ -347,11 +351,7 @@ TEST_F(SweepTest, RanksOnlyAgainstAReferenceThatConverged) {
   EXPECT_THAT(ranking_refusal(swinging), HasSubstr("more than the 5% the scene requires"));
 
   // The sweep on the swinging bar runs its models but ranks none of them; trusted, it ranks.
-  SweepOptions options;
-  options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
-  options.models = {"corotational_fem"};
-  options.reference = settings;
-  options.out_dir = dir_.path() / "swinging";
+  SweepOptions options = two_dt_sweep("swinging");
   const scenes::Scene scene = bar(0.0);
   const std::vector<SweepRecord> records = run_sweep(scene, options);
   ASSERT_EQ(records.size(), 2u);
@@ -374,37 +374,28 @@ TEST_F(SweepTest, RanksOnlyAgainstAReferenceThatConverged) {
 // On a cluster the reference is computed once, into a shared folder, before the shards start:
 // the shards read it (and its check) and compute neither again.
 TEST_F(SweepTest, ShardsShareOneReferenceComputedBeforeThem) {
-  SweepOptions options;
-  options.axes = {parse_sweep_axis("model.dt=1/50,1/100")};
-  options.models = {"corotational_fem"};
-  options.reference.model = "corotational_fem";
-  options.reference.substeps = 2;
-  options.reference.times = 4;
+  SweepOptions options = two_dt_sweep("reference_step");
   options.reference_dir = dir_.path() / "shared_reference";
   options.reference_only = true;
-  options.out_dir = dir_.path() / "reference_step";
   EXPECT_TRUE(run_sweep(scene(), options).empty());
+  const auto written_files = [&] {
+    std::map<std::filesystem::path, std::filesystem::file_time_type> written;
+    for (const auto& entry : std::filesystem::directory_iterator(options.reference_dir)) {
+      written[entry.path()] = entry.last_write_time();
+    }
+    return written;
+  };
   // The reference and the finer run that checked it.
-  std::map<std::filesystem::path, std::filesystem::file_time_type> written;
-  for (const auto& entry : std::filesystem::directory_iterator(options.reference_dir)) {
-    written[entry.path()] = entry.last_write_time();
-  }
+  const auto written = written_files();
   EXPECT_EQ(written.size(), 2u);
   options.reference_only = false;
   for (int shard = 0; shard < 2; ++shard) {
-    SweepOptions part = options;
-    part.shard = shard;
-    part.shards = 2;
-    part.out_dir = dir_.path() / ("shard" + std::to_string(shard));
+    const SweepOptions part = half(options, shard);
     EXPECT_EQ(run_sweep(scene(), part).size(), 1u);
     EXPECT_FALSE(std::filesystem::exists(part.out_dir / "reference"));
     EXPECT_TRUE(read_reference_convergence({part.out_dir}).checked);
   }
-  std::map<std::filesystem::path, std::filesystem::file_time_type> after;
-  for (const auto& entry : std::filesystem::directory_iterator(options.reference_dir)) {
-    after[entry.path()] = entry.last_write_time();
-  }
-  EXPECT_EQ(after, written);
+  EXPECT_EQ(written_files(), written);
 }
 }  // namespace
 }  // namespace softbench::harness
