@@ -32,7 +32,7 @@ function(softbench_add_test name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench_test_support GTest::gmock GTest::gtest_main
-                        softbench::warnings)
+                        OpenMP::OpenMP_CXX softbench::warnings)
   # The tests' own code (meshes made in code, expected values, loops over cases) runs briefly;
   # the physics they check runs in the libraries, built as the preset says. At -O1 a test unit
   # compiles in about two thirds of the time -O3 takes (the tests are a third of the release
@@ -41,7 +41,10 @@ function(softbench_add_test name)
   # Worth its own compile (about as long as one unit's) only where several units share it.
   list(LENGTH ARG_SOURCES units)
   if(units GREATER_EQUAL 4)
-    target_precompile_headers(${name} PRIVATE ${SOFTBENCH_PCH_TEST})
+    # One precompiled header for every test executable (softbench_test_pch, below): the test
+    # executables compile with the same options, so a header per executable was the same
+    # header built six times.
+    target_precompile_headers(${name} REUSE_FROM softbench_test_pch)
     # GCC 12's middle-end string warnings misfire on libstdc++'s inlined std::string code once
     # optimised (known false positives: a bound of 2^64 - 1, an offset past the 32-byte
     # small-string buffer), and through a precompiled header they are no longer taken for a
@@ -57,12 +60,12 @@ function(softbench_add_test name)
 endfunction()
 
 # softbench_add_bench(NAME SOURCES... LINK ...): one Google Benchmark executable, its JSON
-# context carrying softbench's provenance (bench/bench_context.cpp).
+# context carrying softbench's provenance (softbench_bench_context, bench/CMakeLists.txt).
 function(softbench_add_bench name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
-  add_executable(${name} ${ARG_SOURCES} ${PROJECT_SOURCE_DIR}/bench/bench_context.cpp)
-  target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench::harness benchmark::benchmark_main
-                        softbench::warnings)
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench_bench_context softbench::harness
+                        benchmark::benchmark_main softbench::warnings)
 endfunction()
 
 # softbench_add_provenance(TARGET): TARGET gets harness/build_revision.h (the git revision,
