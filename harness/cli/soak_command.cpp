@@ -57,8 +57,8 @@ void add_soak_command(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "soak",
       "Drive one model through the scene's loading cycle after cycle (the instrument presses "
-      "and withdraws, the grasp pulls and lets go) for N steps; report resident memory, energy "
-      "and shape drift, and speed per cycle in soak.md and soak.json. A blow-up ends the soak "
+      "and withdraws, the grasp pulls and lets go) for N steps; report resident memory, heap in "
+      "use, energy and shape drift, and speed per cycle in soak.md and soak.json. A blow-up ends the soak "
       "and is reported (exit 0)");
   add_scene_argument(*command, arguments->scene);
   command->add_option("--model", arguments->model, "the model to soak")->required();

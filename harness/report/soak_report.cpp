@@ -21,6 +21,7 @@ nlohmann::json cycle_json(const SoakCycle& cycle) {
           {"cpu_ms_per_step", cycle.cpu_ms_per_step},
           {"resident_bytes", cycle.resident_bytes},
           {"peak_resident_bytes", cycle.peak_resident_bytes},
+          {"heap_bytes", cycle.heap_bytes},
           {"energy_j", number_or_null(cycle.energy)},
           {"kinetic_energy_j", number_or_null(cycle.kinetic_energy)},
           {"shape_drift", number_or_null(cycle.shape_drift)},
@@ -50,6 +51,9 @@ nlohmann::json soak_json(const SoakReport& report) {
   json["summary"] = {{"resident_after_warmup_bytes", report.resident_after_warmup},
                      {"resident_at_end_bytes", report.resident_at_end},
                      {"peak_resident_bytes", report.peak_resident},
+                     {"heap_after_warmup_bytes", report.heap_after_warmup},
+                     {"heap_at_end_bytes", report.heap_at_end},
+                     {"heap_growth_bytes_per_step", report.heap_growth_per_step},
                      {"energy_drift", number_or_null(report.energy_drift)},
                      {"final_shape_drift", number_or_null(report.final_shape_drift)},
                      {"speed_ratio_late_over_early", number_or_null(report.speed_ratio)}};
@@ -85,6 +89,9 @@ std::string soak_markdown(const SoakReport& report) {
                1)
       << " MiB) |\n";
   out << "| peak resident memory | " << fixed(mebibytes(report.peak_resident), 1) << " MiB |\n";
+  out << "| heap in use after warm-up / at the end | " << report.heap_after_warmup << " / "
+      << report.heap_at_end << " bytes (" << fixed(report.heap_growth_per_step, 3)
+      << " bytes a step between them) |\n";
   out << "| energy drift (last cycle's end against the first's) | "
       << fixed(100.0 * report.energy_drift, 3) << "% |\n";
   out << "| shape drift at the end (RMS / bbox diagonal, against the first cycle's end) | "

@@ -43,6 +43,10 @@ class DecimatedSeries {
     offer(value, [](const T&, const T&) { return false; });
   }
 
+  /// Takes the memory of `capacity` values now, so that offering never allocates (a soak
+  /// measures the heap the run holds, which a growing series would move).
+  void reserve_capacity() { values_.reserve(capacity_); }
+
   const std::vector<T>& values() const { return values_; }
   std::vector<T> take() && { return std::move(values_); }
   std::size_t offered() const { return offered_; }

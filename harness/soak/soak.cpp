@@ -10,6 +10,7 @@
 #include "harness/run/scene_stepper.h"
 #include "models/model_registry.h"
 
+#include <malloc.h>
 #include <time.h>
 
 #include <algorithm>
@@ -101,6 +102,7 @@ SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const Soa
   const double diagonal = mesh.diagonal();
   RunMonitor monitor(mesh.body, scene.limits, diagonal);
   DecimatedSeries<SoakCycle> cycles(kCycleCapacity);
+  cycles.reserve_capacity();
   std::optional<Eigen::Matrix3Xd> first_end;
   const Clock::time_point soak_start = Clock::now();
   long long step_total = 0;
@@ -152,6 +154,7 @@ SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const Soa
     record.cpu_ms_per_step = 1000.0 * (process_cpu_seconds() - cpu_start) / steps_this_cycle;
     record.resident_bytes = status_bytes("VmRSS");
     record.peak_resident_bytes = status_bytes("VmHWM");
+    record.heap_bytes = heap_in_use();
     const EnergyParts energy =
         energy_of(*body, masses, mesh.body.rest_positions(), scene.gravity.acceleration);
     record.energy = energy.total;
@@ -179,6 +182,11 @@ SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const Soa
   return report;
 }
 
+std::size_t heap_in_use() {
+  const struct mallinfo2 info = ::mallinfo2();
+  return info.uordblks + info.hblkhd;
+}
+
 void summarise_soak(SoakReport& report) {
   const std::vector<SoakCycle>& cycles = report.cycles;
   if (cycles.empty()) {
@@ -187,6 +195,14 @@ void summarise_soak(SoakReport& report) {
   const std::size_t tenth = std::max<std::size_t>(1, cycles.size() / 10);
   report.resident_after_warmup = cycles[tenth - 1].resident_bytes;
   report.resident_at_end = cycles.back().resident_bytes;
+  report.heap_after_warmup = cycles[tenth - 1].heap_bytes;
+  report.heap_at_end = cycles.back().heap_bytes;
+  const long long steps_after_warmup = cycles.back().steps - cycles[tenth - 1].steps;
+  report.heap_growth_per_step =
+      steps_after_warmup > 0 ? (static_cast<double>(report.heap_at_end) -
+                                static_cast<double>(report.heap_after_warmup)) /
+                                   static_cast<double>(steps_after_warmup)
+                             : 0.0;
   for (const SoakCycle& cycle : cycles) {
     report.peak_resident = std::max(report.peak_resident, cycle.peak_resident_bytes);
   }

@@ -39,6 +39,10 @@ struct SoakCycle {
   double cpu_ms_per_step = 0.0;       ///< process CPU time (every thread) / step, this cycle
   std::size_t resident_bytes = 0;     ///< VmRSS at the cycle's end
   std::size_t peak_resident_bytes = 0;  ///< VmHWM at the cycle's end
+  /// Bytes the allocator has handed out and not had back at the cycle's end (heap_in_use):
+  /// exact where resident memory moves in pages and with the allocator's caching, so a leak of
+  /// a few bytes a step shows within a few cycles instead of after a million steps.
+  std::size_t heap_bytes = 0;
   /// J: kinetic + elastic (when the model has an elastic energy) + gravitational, relative to
   /// the rest shape at rest, at the cycle's end.
   double energy = 0.0;
@@ -74,6 +78,11 @@ struct SoakReport {
   std::size_t resident_after_warmup = 0;
   std::size_t resident_at_end = 0;
   std::size_t peak_resident = 0;
+  /// Heap in use after the warm-up and at the end (SoakCycle::heap_bytes), and the growth
+  /// between the two per step (bytes; 0 when the soak allocates nothing it keeps).
+  std::size_t heap_after_warmup = 0;
+  std::size_t heap_at_end = 0;
+  double heap_growth_per_step = 0.0;
   /// (energy at the last cycle's end - at the first's) / max(|first|, kinetic scale).
   double energy_drift = 0.0;
   double final_shape_drift = 0.0;
@@ -86,6 +95,10 @@ struct SoakReport {
 /// and is reported). Throws InputError for an unknown model or a scene with fewer than two
 /// steps, Interrupted on Ctrl-C unless options.keep_interrupted.
 SoakReport run_soak(const scenes::Scene& scene, const SceneMesh& mesh, const SoakOptions& options);
+
+/// Bytes in use in the allocator's arenas (glibc's mallinfo2: allocated chunks plus mmapped
+/// blocks, every arena), 0 where that is not known.
+std::size_t heap_in_use();
 
 /// Fills the summary fields of `report` from its cycles.
 void summarise_soak(SoakReport& report);
