@@ -69,8 +69,7 @@ void sweep(const SweepArguments& arguments) {
   options.trust_reference = arguments.trust_reference;
   options.reference_only = arguments.reference_only;
   options.progress = &std::cerr;
-  const std::vector<SweepRecord> records = run_sweep(scene, options);
-  const ReferenceConvergence convergence = read_reference_convergence({options.out_dir});
+  const auto [records, convergence] = run_sweep(scene, options);
   if (options.reference_only) {
     const std::string refusal = ranking_refusal(convergence);
     std::cout << "reference ready"

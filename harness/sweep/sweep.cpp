@@ -263,7 +263,7 @@ std::vector<SweepRecord> read_sweep_runs(const std::vector<std::filesystem::path
   return records;
 }
 
-std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOptions& options) {
+SweepResult run_sweep(const scenes::Scene& scene, const SweepOptions& options) {
   if (options.shards < 1 || options.shard < 0 || options.shard >= options.shards) {
     throw InputError("--shard: expected i/N with 0 <= i < N");
   }
@@ -280,7 +280,7 @@ std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOption
   }
   write_reference_convergence(options.out_dir, convergence);
   if (options.reference_only) {
-    return {};
+    return {{}, convergence};
   }
   const std::filesystem::path runs = options.out_dir / "runs";
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -298,7 +298,7 @@ std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOption
                         << record.accuracy.rms_error << "\n";
     }
   }
-  return read_sweep_runs({options.out_dir});
+  return {read_sweep_runs({options.out_dir}), convergence};
 }
 
 void write_reference_convergence(const std::filesystem::path& dir,

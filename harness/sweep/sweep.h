@@ -86,10 +86,16 @@ struct SweepOptions {
 /// The file in a sweep's folder that records the reference's convergence check.
 inline constexpr const char* kReferenceConvergenceFile = "reference_convergence.json";
 
+/// What run_sweep found: every record of its runs folder and the reference's convergence check.
+struct SweepResult {
+  std::vector<SweepRecord> records;
+  ReferenceConvergence convergence;
+};
+
 /// Computes or reads the reference, checks its convergence (unless trusted; recorded in
 /// out_dir/kReferenceConvergenceFile), then runs the points of this shard that have no file yet
-/// under out_dir/runs. Returns every record found there (none with reference_only).
-std::vector<SweepRecord> run_sweep(const scenes::Scene& scene, const SweepOptions& options);
+/// under out_dir/runs. Returns every record found there (none with reference_only) and the check.
+SweepResult run_sweep(const scenes::Scene& scene, const SweepOptions& options);
 
 /// The records of one or more runs folders (sweep output dirs), deduplicated by id.
 std::vector<SweepRecord> read_sweep_runs(const std::vector<std::filesystem::path>& dirs);

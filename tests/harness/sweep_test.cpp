@@ -286,7 +286,7 @@ TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
   // The reference is the same model at dt / 2 = 0.01 s: the dt = 1/100 run is that very
   // computation (error 0), the dt = 1/50 one is not.
   const SweepOptions options = two_dt_sweep("full");
-  const std::vector<SweepRecord> records = run_sweep(scene(), options);
+  const std::vector<SweepRecord> records = run_sweep(scene(), options).records;
   ASSERT_EQ(records.size(), 2u);
   const SweepRecord& coarse = records[0].point.dt > records[1].point.dt ? records[0] : records[1];
   const SweepRecord& fine = records[0].point.dt > records[1].point.dt ? records[1] : records[0];
@@ -303,14 +303,14 @@ TEST_F(SweepTest, RunsResumesShardsAndMeasuresErrorAgainstTheReference) {
   edited["steps_per_second"] = 1.0;
   std::ofstream(file) << edited.dump();
   EXPECT_EQ(
-      run_sweep(scene(), options)[records[0].point.id == coarse.point.id ? 0 : 1].steps_per_second,
+      run_sweep(scene(), options).records[records[0].point.id == coarse.point.id ? 0 : 1].steps_per_second,
       1.0);
 
   // Two shards run disjoint halves; merged they are the whole sweep.
   std::vector<std::filesystem::path> shards;
   for (int shard = 0; shard < 2; ++shard) {
     const SweepOptions part = half(options, shard);
-    EXPECT_EQ(run_sweep(scene(), part).size(), 1u);
+    EXPECT_EQ(run_sweep(scene(), part).records.size(), 1u);
     shards.push_back(part.out_dir);
   }
   const std::vector<SweepRecord> merged = read_sweep_runs(shards);
@@ -353,21 +353,22 @@ TEST_F(SweepTest, RanksOnlyAgainstAReferenceThatConverged) {
   // The sweep on the swinging bar runs its models but ranks none of them; trusted, it ranks.
   SweepOptions options = two_dt_sweep("swinging");
   const scenes::Scene scene = bar(0.0);
-  const std::vector<SweepRecord> records = run_sweep(scene, options);
+  const auto [records, convergence] = run_sweep(scene, options);
   ASSERT_EQ(records.size(), 2u);
-  const ReferenceConvergence recorded = read_reference_convergence({options.out_dir});
-  EXPECT_DOUBLE_EQ(recorded.difference, swinging.difference);
-  write_sweep_table(options.out_dir, "bar", records, recorded);
+  EXPECT_DOUBLE_EQ(convergence.difference, swinging.difference);
+  EXPECT_DOUBLE_EQ(read_reference_convergence({options.out_dir}).difference,
+                   swinging.difference);
+  write_sweep_table(options.out_dir, "bar", records, convergence);
   const nlohmann::json table = read_json_file((options.out_dir / "sweep.json").string());
   EXPECT_THAT(table["ranking_refused"].get<std::string>(), HasSubstr("has not converged"));
   EXPECT_TRUE(table["pareto"].empty());
   EXPECT_TRUE(table["fastest_within"]["20%"].is_null());
   options.trust_reference = true;
   options.out_dir = dir_.path() / "trusted";
-  const std::vector<SweepRecord> trusted = run_sweep(scene, options);
-  const ReferenceConvergence unchecked = read_reference_convergence({options.out_dir});
-  EXPECT_FALSE(unchecked.checked);
-  write_sweep_table(options.out_dir, "bar", trusted, unchecked);
+  const SweepResult trusted = run_sweep(scene, options);
+  EXPECT_FALSE(trusted.convergence.checked);
+  EXPECT_FALSE(read_reference_convergence({options.out_dir}).checked);
+  write_sweep_table(options.out_dir, "bar", trusted.records, trusted.convergence);
   EXPECT_FALSE(read_json_file((options.out_dir / "sweep.json").string())["pareto"].empty());
 }
 
@@ -377,7 +378,7 @@ TEST_F(SweepTest, ShardsShareOneReferenceComputedBeforeThem) {
   SweepOptions options = two_dt_sweep("reference_step");
   options.reference_dir = dir_.path() / "shared_reference";
   options.reference_only = true;
-  EXPECT_TRUE(run_sweep(scene(), options).empty());
+  EXPECT_TRUE(run_sweep(scene(), options).records.empty());
   const auto written_files = [&] {
     std::map<std::filesystem::path, std::filesystem::file_time_type> written;
     for (const auto& entry : std::filesystem::directory_iterator(options.reference_dir)) {
@@ -391,7 +392,7 @@ TEST_F(SweepTest, ShardsShareOneReferenceComputedBeforeThem) {
   options.reference_only = false;
   for (int shard = 0; shard < 2; ++shard) {
     const SweepOptions part = half(options, shard);
-    EXPECT_EQ(run_sweep(scene(), part).size(), 1u);
+    EXPECT_EQ(run_sweep(scene(), part).records.size(), 1u);
     EXPECT_FALSE(std::filesystem::exists(part.out_dir / "reference"));
     EXPECT_TRUE(read_reference_convergence({part.out_dir}).checked);
   }
