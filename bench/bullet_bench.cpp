@@ -27,6 +27,7 @@
 // The machine is shared and noisy: run with --benchmark_repetitions=3 and quote medians;
 // OMP_WAIT_POLICY=passive as for step_bench. Bullet runs single-threaded.
 #include "bench/bench_liver.h"
+#include "bench/bench_smoke.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
@@ -181,7 +182,7 @@ void step_benchmark(benchmark::State& state, const Variant& variant, const std::
   const TetMesh& mesh = bench::shipped_liver(name);
   const double dt = variant.dt > 0.0 ? variant.dt : liver_scene().dt;
   Setting setting = make_setting(variant, mesh);
-  for (int step = 0; step < kWarmUpSteps; ++step) {
+  for (int step = 0; step < bench::unless_smoke(kWarmUpSteps, 1); ++step) {
     setting.body->step(dt, setting.input);
   }
   bench::StepTotals totals;
@@ -220,7 +221,7 @@ bool survives(const Variant& variant,
   const scenes::Scene& scene = liver_scene();
   const Eigen::Matrix<double, 3, 2> box = bounding_box(mesh.rest_positions());
   const double max_displacement = scene.limits.max_displacement * (box.col(1) - box.col(0)).norm();
-  const int steps = static_cast<int>(std::ceil(kStabilityTime / dt));
+  const int steps = bench::unless_smoke(static_cast<int>(std::ceil(kStabilityTime / dt)), 2);
   final_speed = 0.0;
   const Clock::time_point start = Clock::now();
   for (int step = 0; step < steps; ++step) {

@@ -20,6 +20,7 @@
 // contacts and contact points (the analogue of our segments).
 // Counters: refit_us and query_us split the frame; pairs is the intersecting-pair count.
 // BM_Compare times hybrid, sphere and AABB interleaved (see run_compare) for the goal check.
+#include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "collision/bvh.h"
 #include "collision/bvh_collide.h"
@@ -506,30 +507,28 @@ void register_benchmarks() {
                    scene.conforming ? " probe radii" : " mm", placement.pairs);
       const std::string suffix = scene.name + "/target:" + std::to_string(placement.target);
       for (const TreeKind& tree : tree_kinds()) {
-        benchmark::RegisterBenchmark(("BM_Frame/" + suffix + "/" + tree.name).c_str(),
-                                     [&scene, &placement, &tree](benchmark::State& state) {
-                                       run_ours(state, scene, placement, tree.liver, tree.tool,
-                                                tree.batched);
-                                     })
-            ->Unit(benchmark::kMicrosecond)
-            ->MinTime(0.2)
-            ->Repetitions(5)
-            ->ReportAggregatesOnly(true);
+        bench::repeated(
+            benchmark::RegisterBenchmark(("BM_Frame/" + suffix + "/" + tree.name).c_str(),
+                                         [&scene, &placement, &tree](benchmark::State& state) {
+                                           run_ours(state, scene, placement, tree.liver,
+                                                    tree.tool, tree.batched);
+                                         })
+                ->Unit(benchmark::kMicrosecond),
+            5, 0.2);
       }
-      benchmark::RegisterBenchmark(
-          ("BM_Frame/" + suffix + "/fcl_aabb").c_str(),
-          [&scene, &placement](benchmark::State& state) { run_fcl(state, scene, placement); })
-          ->Unit(benchmark::kMicrosecond)
-          ->MinTime(0.2)
-          ->Repetitions(5)
-          ->ReportAggregatesOnly(true);
-      benchmark::RegisterBenchmark(
-          ("BM_Compare/" + suffix).c_str(),
-          [&scene, &placement](benchmark::State& state) { run_compare(state, scene, placement); })
-          ->Unit(benchmark::kMicrosecond)
-          ->MinTime(0.3)
-          ->Repetitions(11)
-          ->ReportAggregatesOnly(true);
+      bench::repeated(
+          benchmark::RegisterBenchmark(
+              ("BM_Frame/" + suffix + "/fcl_aabb").c_str(),
+              [&scene, &placement](benchmark::State& state) { run_fcl(state, scene, placement); })
+              ->Unit(benchmark::kMicrosecond),
+          5, 0.2);
+      bench::repeated(
+          benchmark::RegisterBenchmark(("BM_Compare/" + suffix).c_str(),
+                                       [&scene, &placement](benchmark::State& state) {
+                                         run_compare(state, scene, placement);
+                                       })
+              ->Unit(benchmark::kMicrosecond),
+          11, 0.3);
     }
   }
 }

@@ -8,6 +8,7 @@
 // built before timing.
 // BM_TriTriVersus interleaves the projection test with Moeller's for their time ratio;
 // BM_TriTriBatchInCache times the batch path as a BVH query runs it: one candidate set in cache.
+#include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "collision/tri_tri_batch.h"
 #include "collision/tri_tri_guigue.h"
@@ -163,16 +164,15 @@ void BM_TriTriVersus(benchmark::State& state, int method, int peer) {
 
 /// One row group of table 4.1: the five pair counts (thousands), medians of 5 repetitions.
 void table_4_1(const std::string& name, std::function<void(benchmark::State&)> run) {
-  benchmark::RegisterBenchmark(("BM_TriTri/" + name).c_str(), std::move(run))
-      ->Arg(100)
-      ->Arg(500)
-      ->Arg(1000)
-      ->Arg(1500)
-      ->Arg(2000)
-      ->Iterations(1)
-      ->Repetitions(5)
-      ->ReportAggregatesOnly(true)
-      ->Unit(benchmark::kMillisecond);
+  bench::repeated(benchmark::RegisterBenchmark(("BM_TriTri/" + name).c_str(), std::move(run))
+                      ->Arg(100)
+                      ->Arg(500)
+                      ->Arg(1000)
+                      ->Arg(1500)
+                      ->Arg(2000)
+                      ->Iterations(1)
+                      ->Unit(benchmark::kMillisecond),
+                  5);
 }
 
 void register_all() {
@@ -186,20 +186,19 @@ void register_all() {
     table_4_1("batch_soa/" + sets[set],
               [set](benchmark::State& state) { BM_TriTriBatch(state, set); });
   }
-  benchmark::RegisterBenchmark("BM_TriTriVersus/projection_over_moller/random",
-                               [](benchmark::State& state) { BM_TriTriVersus(state, 0, 1); })
-      ->Iterations(1)
-      ->Repetitions(11)
-      ->ReportAggregatesOnly(true)
-      ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("BM_TriTriBatchInCache/random", BM_TriTriBatchInCache)
-      ->Arg(100)
-      ->Arg(500)
-      ->Arg(2000)
-      ->MinTime(0.2)
-      ->Repetitions(5)
-      ->ReportAggregatesOnly(true)
-      ->Unit(benchmark::kMicrosecond);
+  bench::repeated(
+      benchmark::RegisterBenchmark("BM_TriTriVersus/projection_over_moller/random",
+                                   [](benchmark::State& state) { BM_TriTriVersus(state, 0, 1); })
+          ->Iterations(1)
+          ->Unit(benchmark::kMillisecond),
+      11);
+  bench::repeated(
+      benchmark::RegisterBenchmark("BM_TriTriBatchInCache/random", BM_TriTriBatchInCache)
+          ->Arg(100)
+          ->Arg(500)
+          ->Arg(2000)
+          ->Unit(benchmark::kMicrosecond),
+      5, 0.2);
 }
 
 const bool registered = (register_all(), true);

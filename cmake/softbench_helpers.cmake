@@ -59,13 +59,27 @@ function(softbench_add_test name)
                        PROPERTIES LABELS ${name})
 endfunction()
 
-# softbench_add_bench(NAME SOURCES... LINK ...): one Google Benchmark executable, its JSON
-# context carrying softbench's provenance (softbench_bench_context, bench/CMakeLists.txt).
+# softbench_add_bench(NAME SOURCES... LINK ... [SMOKE_FILTER REGEX]): one Google Benchmark
+# executable, its JSON context carrying softbench's provenance (softbench_bench_context,
+# bench/CMakeLists.txt), and its smoke test BenchSmoke.NAME (label bench_smoke): every benchmark
+# once for a moment (bench/bench_smoke.h), so none can rot. SMOKE_FILTER (a --benchmark_filter,
+# "-REGEX" to leave out) drops the sizes that only add time: the same code on a larger mesh.
 function(softbench_add_bench name)
-  cmake_parse_arguments(ARG "" "" "SOURCES;LINK" ${ARGN})
+  cmake_parse_arguments(ARG "" "SMOKE_FILTER" "SOURCES;LINK" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench_bench_context softbench::harness
                         benchmark::benchmark_main softbench::warnings)
+  set(smoke_arguments --benchmark_min_time=0.001 --benchmark_repetitions=1)
+  if(ARG_SMOKE_FILTER)
+    list(APPEND smoke_arguments "--benchmark_filter=${ARG_SMOKE_FILTER}")
+  endif()
+  add_test(NAME BenchSmoke.${name} COMMAND ${name} ${smoke_arguments}
+           WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  # A benchmark that cannot run (SkipWithError: a blow-up, a missing mesh) still leaves the
+  # executable with status 0: its console line fails the test.
+  set_tests_properties(BenchSmoke.${name} PROPERTIES LABELS bench_smoke
+                       ENVIRONMENT "SOFTBENCH_BENCH_SMOKE=1;OMP_NUM_THREADS=1"
+                       FAIL_REGULAR_EXPRESSION "ERROR OCCURRED")
 endfunction()
 
 # softbench_add_provenance(TARGET): TARGET gets harness/build_revision.h (the git revision,

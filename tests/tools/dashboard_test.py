@@ -1,0 +1,339 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: MIT
+"""tools/dashboard on run files made in code: the comparison's verdicts, the page's charts (or
+their no-data notes), the softbench compare folder, and bad input.
+
+Usage: dashboard_test.py [unittest arguments, e.g. a test class name]
+Exit status 77 (ctest: skipped) when this python has no matplotlib or scipy."""
+
+import json
+import os
+import re
+import shutil
+import sys
+import tempfile
+import unittest
+
+sys.dont_write_bytecode = True  # keep the source tree free of __pycache__
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import dashboard_support as support  # noqa: E402
+
+support.require_modules("matplotlib", "scipy")
+dashboard = support.load_dashboard()
+
+OLD_DATE = "2026-11-20T10:00:00+00:00"
+NEW_DATE = "2026-11-21T10:00:00+00:00"
+SLOW = "BM_Step/shape_matching/liver.msh/real_time"
+SLIGHTLY_SLOW = "BM_Step/mass_spring/liver.msh/real_time"
+CHART_IDS = ["steps-per-model", "cost-vs-size", "tri-tri-ns-per-pair", "bvh-frame-time"]
+
+
+def injected(factors):
+    return lambda name: factors.get(name, 1.0)
+
+
+def run_object(path, data, order):
+    return dashboard.Run(path, data, order)
+
+
+def figures(page):
+    """{id: the figure's HTML} for every <figure class="chart ..."> of the page."""
+    found = {}
+    for match in re.finditer(r'<figure class="chart[^"]*" id="([^"]+)">(.*?)</figure>', page,
+                             re.S):
+        found[match.group(1)] = match.group(2)
+    return found
+
+
+def row_classes(page, table_id):
+    table = re.search(rf'<table class="[^"]*" id="{table_id}">(.*?)</table>', page, re.S)
+    if table is None:
+        return {}
+    return {html_name: verdict for verdict, html_name in re.findall(
+        r'<tr class="([a-z]+)"><td class="name">([^<]+)</td>', table.group(1))}
+
+
+class ComparisonTest(unittest.TestCase):
+    """The rules of the comparison, on the Run objects the page is made from."""
+
+    def compare(self, old, new):
+        rows = dashboard.compare_runs(run_object("old.json", old, 0),
+                                      run_object("new.json", new, 1))
+        return {row["name"]: row for row in rows}
+
+    def test_flags_a_doubled_time_and_not_two_percent(self):
+        old = support.make_run(OLD_DATE, seed=1)
+        new = support.make_run(NEW_DATE, seed=2, factor=injected({SLOW: 2.0, SLIGHTLY_SLOW: 1.02}))
+        rows = self.compare(old, new)
+        self.assertEqual(rows[SLOW]["verdict"], "regression")
+        self.assertEqual(rows[SLOW]["basis"], "U test")
+        self.assertAlmostEqual(rows[SLOW]["ratio"], 2.0, delta=0.1)
+        # 5 against 5 with no overlap: the exact two-sided p-value is 2 / C(10, 5).
+        self.assertAlmostEqual(rows[SLOW]["p_value"], 2 / 252, places=6)
+        self.assertEqual(rows[SLIGHTLY_SLOW]["verdict"], "unchanged")
+        self.assertAlmostEqual(rows[SLIGHTLY_SLOW]["ratio"], 1.02, delta=0.015)
+        flagged = [name for name, row in rows.items() if row["verdict"] != "unchanged"]
+        self.assertEqual(flagged, [SLOW])
+
+    def test_flags_an_improvement_the_same_way(self):
+        old = support.make_run(OLD_DATE, seed=1)
+        new = support.make_run(NEW_DATE, seed=2, factor=injected({SLOW: 0.5}))
+        self.assertEqual(self.compare(old, new)[SLOW]["verdict"], "improvement")
+
+    def test_single_repetitions_are_judged_on_the_ratio_alone(self):
+        old = support.make_run(OLD_DATE, seed=1, repetitions=1)
+        new = support.make_run(NEW_DATE, seed=2, repetitions=1,
+                               factor=injected({SLOW: 2.0, SLIGHTLY_SLOW: 1.3}))
+        rows = self.compare(old, new)
+        self.assertEqual(rows[SLOW]["basis"], "ratio only")
+        self.assertIsNone(rows[SLOW]["p_value"])
+        self.assertEqual(rows[SLOW]["verdict"], "regression")
+        self.assertEqual(rows[SLIGHTLY_SLOW]["verdict"], "unchanged")
+
+    def test_three_against_three_cannot_be_significant_so_the_ratio_decides(self):
+        old = support.make_run(OLD_DATE, seed=1, repetitions=3)
+        new = support.make_run(NEW_DATE, seed=2, repetitions=3, factor=injected({SLOW: 2.0}))
+        row = self.compare(old, new)[SLOW]
+        self.assertAlmostEqual(row["p_value"], 0.1, places=6)  # 2 / C(6, 3): never below 0.05
+        self.assertEqual(row["basis"], "ratio only")
+        self.assertEqual(row["verdict"], "regression")
+
+    def test_aggregates_only_benchmarks_use_their_median_and_the_ratio(self):
+        name = "BM_TriTri/projection/designed_mix/1000/iterations:1/repeats:5"
+        old = support.make_run(OLD_DATE, seed=1)
+        new = support.make_run(NEW_DATE, seed=2, factor=injected({name: 2.0}))
+        row = self.compare(old, new)[name]
+        self.assertEqual(row["basis"], "ratio only")
+        self.assertEqual(row["verdict"], "regression")
+        self.assertEqual(row["new_repetitions"], 5)
+
+    def test_only_benchmarks_in_both_runs_are_compared(self):
+        old = support.make_run(OLD_DATE, seed=1, keep=lambda n: n.startswith("BM_Step/"))
+        new = support.make_run(NEW_DATE, seed=2, keep=lambda n: "liver.msh" in n)
+        rows = self.compare(old, new)
+        self.assertTrue(rows)
+        self.assertTrue(all(name.startswith("BM_Step/") and "/liver.msh/" in name
+                            for name in rows))
+
+    def test_the_newest_run_is_the_latest_date_not_the_last_argument(self):
+        runs = [run_object("new.json", support.make_run(NEW_DATE), 0),
+                run_object("old.json", support.make_run(OLD_DATE), 1)]
+        self.assertEqual([run.path for run in dashboard.newest_first(runs)],
+                         ["new.json", "old.json"])
+
+    def test_the_fitted_exponent_of_a_power_law(self):
+        sizes = [4777.0, 22861.0, 84530.0]
+        self.assertAlmostEqual(dashboard.fit_exponent(sizes, [3e-6 * n ** 1.3 for n in sizes]),
+                               1.3, places=9)
+        self.assertIsNone(dashboard.fit_exponent([4777.0], [1.0]))
+
+
+class PageTest(unittest.TestCase):
+    """The page the command writes."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory(prefix="dashboard-test-")
+        folder = cls.folder.name
+        old = support.write(os.path.join(folder, "old.json"), support.make_run(OLD_DATE, seed=1))
+        new = support.write(os.path.join(folder, "new.json"), support.make_run(
+            NEW_DATE, revision="def5678", seed=2,
+            factor=injected({SLOW: 2.0, SLIGHTLY_SLOW: 1.02})))
+        # The newer run first: the order of the arguments must not matter.
+        cls.result = support.run_tool(support.DASHBOARD, new, old, "--out",
+                                      os.path.join(folder, "page"))
+        with open(os.path.join(folder, "page", "index.html"), encoding="utf-8") as handle:
+            cls.page = handle.read()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def test_writes_the_page_and_prints_its_path(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        self.assertEqual(self.result.stdout.strip(),
+                         os.path.join(self.folder.name, "page", "index.html"))
+
+    def test_every_chart_is_an_inline_svg_with_drawn_paths(self):
+        found = figures(self.page)
+        for chart_id in CHART_IDS:
+            self.assertIn(chart_id, found)
+            self.assertIn("<svg", found[chart_id])
+            self.assertRegex(found[chart_id], r'<path [^>]*d="M', chart_id)
+            self.assertNotIn("no-data", found[chart_id])
+
+    def test_a_history_chart_per_headline_benchmark(self):
+        history = [i for i in figures(self.page) if i.startswith("history-")]
+        self.assertIn("history-bm-step-shape-matching-liver-msh-real-time", history)
+        self.assertIn("history-bm-massspringstep-defaults-liver-msh", history)
+        # Families timed at several sizes get one chart, at the largest size.
+        self.assertEqual([i for i in history if "tritri" in i],
+                         ["history-bm-tritri-projection-designed-mix-2000-iterations-1-repeats-5"])
+
+    def test_the_comparison_table_flags_the_slowdown_only(self):
+        rows = row_classes(self.page, "comparison")
+        self.assertEqual(rows[SLOW], "regression")
+        self.assertEqual(rows[SLIGHTLY_SLOW], "unchanged")
+        self.assertEqual(row_classes(self.page, "flagged"), {SLOW: "regression"})
+        self.assertIn('<span class="regression-count">1</span>', self.page)
+
+    def test_the_thesis_figures_are_beside_ours(self):
+        steps = figures(self.page)["steps-per-model"]
+        self.assertIn("thesis", self.page)
+        self.assertIn("787 FPS", self.page)
+        self.assertIn("i3-2100", self.page)
+        self.assertIn("figures 3.11-3.13", steps)
+
+    def test_the_page_is_self_contained_with_unique_ids(self):
+        self.assertNotRegex(self.page, r"<script|<link|<iframe|@import")
+        self.assertNotRegex(self.page, r'(src|href)="(https?:|//)')
+        self.assertNotIn("url(http", self.page)
+        ids = re.findall(r'\bid="([^"]+)"', self.page)
+        duplicates = sorted({i for i in ids if ids.count(i) > 1})
+        self.assertEqual(duplicates, [])
+        # Every local reference points at an id of the page.
+        references = set(re.findall(r'(?:xlink:href|href)="#([^"]+)"', self.page))
+        references |= set(re.findall(r'url\(#([^)]+)\)', self.page))
+        self.assertEqual(references - set(ids), set())
+
+    def test_a_run_without_the_charts_benchmarks_gets_notes_not_a_crash(self):
+        folder = self.folder.name
+        keep = lambda n: n.startswith("BM_MassSpringStep/")  # noqa: E731
+        paths = [support.write(os.path.join(folder, f"quick{i}.json"), support.make_run(
+            date, seed=i, repetitions=1, keep=keep)) for i, date in enumerate((OLD_DATE, NEW_DATE))]
+        pages = []
+        for attempt in range(2):
+            out = os.path.join(folder, f"quick_page{attempt}")
+            result = support.run_tool(support.DASHBOARD, *paths, "--out", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            with open(os.path.join(out, "index.html"), encoding="utf-8") as handle:
+                pages.append(handle.read())
+        found = figures(pages[0])
+        for chart_id in CHART_IDS:
+            self.assertIn('class="no-data"', found[chart_id])
+            self.assertNotIn("<svg", found[chart_id])
+        self.assertIn("history-bm-massspringstep-defaults-liver-msh", found)
+        self.assertEqual(row_classes(pages[0], "comparison"),
+                         {"BM_MassSpringStep/defaults/liver.msh": "unchanged"})
+        # The same runs give the same page, byte for byte (the SVG ids are salted by chart).
+        self.assertEqual(pages[0], pages[1])
+
+    def test_a_single_run_says_the_comparison_needs_two(self):
+        out = os.path.join(self.folder.name, "single")
+        run = support.write(os.path.join(self.folder.name, "single.json"), support.make_run(
+            NEW_DATE, keep=lambda n: n.startswith("BM_Step/") and "/liver.msh/" in n))
+        result = support.run_tool(support.DASHBOARD, run, "--out", out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        with open(os.path.join(out, "index.html"), encoding="utf-8") as handle:
+            page = handle.read()
+        self.assertIn("comparison and history need two or more", page)
+        self.assertNotIn('id="comparison"', page)
+        self.assertIn("<svg", figures(page)["steps-per-model"])
+        self.assertIn('class="no-data"', figures(page)["cost-vs-size"])
+
+
+class CompareFolderTest(unittest.TestCase):
+    """--compare-dir: the latest softbench compare folder, its markdown and PNGs inline."""
+
+    def test_shows_the_latest_compare_folder(self):
+        with tempfile.TemporaryDirectory(prefix="dashboard-compare-") as folder:
+            run = support.write(os.path.join(folder, "run.json"), support.make_run(
+                NEW_DATE, keep=lambda n: n.startswith("BM_MassSpringStep/")))
+            compares = os.path.join(folder, "compares")
+            for name, when, title in (("older", 1_000_000, "Old table"),
+                                      ("newer", 2_000_000, "New table")):
+                path = os.path.join(compares, name)
+                os.makedirs(path)
+                with open(os.path.join(path, "compare.md"), "w", encoding="utf-8") as handle:
+                    handle.write(f"# {title}\n\nSome `text` & more.\n\n"
+                                 "| model | steps/s |\n|---|---:|\n| mass_spring | 500 |\n")
+                self.write_png(os.path.join(path, "steps_per_second.png"))
+                os.utime(os.path.join(path, "compare.md"), (when, when))
+            out = os.path.join(folder, "page")
+            result = support.run_tool(support.DASHBOARD, run, "--compare-dir", compares,
+                                      "--out", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            with open(os.path.join(out, "index.html"), encoding="utf-8") as handle:
+                page = handle.read()
+        section = re.search(r'<section id="softbench-compare">(.*?)</section>', page, re.S)
+        self.assertIsNotNone(section)
+        self.assertIn("New table", section.group(1))
+        self.assertNotIn("Old table", section.group(1))
+        self.assertIn("<th>model</th><th>steps/s</th>", section.group(1))
+        self.assertIn("<td>mass_spring</td><td>500</td>", section.group(1))
+        self.assertIn("<code>text</code> &amp; more", section.group(1))
+        self.assertRegex(section.group(1),
+                         r'<img alt="steps_per_second.png" src="data:image/png;base64,iVBORw0KGgo')
+
+    @staticmethod
+    def write_png(path):
+        import matplotlib
+
+        matplotlib.use("Agg")
+        from matplotlib.figure import Figure
+
+        figure = Figure(figsize=(1, 1))
+        figure.subplots().plot([0, 1], [0, 1])
+        figure.savefig(path, format="png", dpi=20)
+
+
+class BadInputTest(unittest.TestCase):
+    """Bad input: one line naming the file, status 2, and no page."""
+
+    def expect_refusal(self, arguments, named):
+        with tempfile.TemporaryDirectory(prefix="dashboard-bad-") as folder:
+            out = os.path.join(folder, "page")
+            arguments = [a.replace("{folder}", folder) for a in arguments]
+            result = support.run_tool(support.DASHBOARD, *arguments, "--out", out)
+            self.assertEqual(result.returncode, 2, result.stderr)
+            lines = result.stderr.splitlines()
+            self.assertEqual(len(lines), 1, result.stderr)
+            self.assertIn(named.replace("{folder}", folder), lines[0])
+            self.assertFalse(os.path.exists(os.path.join(out, "index.html")))
+            return lines[0]
+
+    def with_file(self, name, content):
+        folder = tempfile.mkdtemp(prefix="dashboard-input-")
+        self.addCleanup(shutil.rmtree, folder)
+        path = os.path.join(folder, name)
+        with open(path, "wb") as handle:
+            handle.write(content)
+        return path
+
+    def test_a_missing_file(self):
+        line = self.expect_refusal(["{folder}/missing.json"], "{folder}/missing.json")
+        self.assertIn("no such file", line)
+
+    def test_a_file_that_is_not_json(self):
+        path = self.with_file("run.txt", b'{"context": {}, "benchmarks": [')
+        self.assertIn("not JSON", self.expect_refusal([path], path))
+
+    def test_a_file_that_is_not_text(self):
+        path = self.with_file("run.bin", b"\x89PNG\r\n\x1a\n\xff\xfe")
+        self.assertIn("not JSON", self.expect_refusal([path], path))
+
+    def test_json_that_is_not_a_benchmark_run(self):
+        for content in (b'{"context": {}}', b"[1, 2]", b'{"context": [], "benchmarks": []}'):
+            path = self.with_file("run.data", content)
+            self.assertIn("not a Google Benchmark run", self.expect_refusal([path], path))
+
+    def test_a_bad_file_among_good_ones(self):
+        good = self.with_file("good.data", json.dumps(
+            support.make_run(NEW_DATE, keep=lambda n: False)).encode())
+        bad = self.with_file("bad.data", b"nonsense")
+        self.expect_refusal([good, bad], bad)
+
+    def test_a_compare_folder_without_compare_md(self):
+        good = self.with_file("good.data", json.dumps(
+            support.make_run(NEW_DATE, keep=lambda n: False)).encode())
+        empty = os.path.dirname(good)
+        self.assertIn("compare.md", self.expect_refusal([good, "--compare-dir", empty], empty))
+        self.expect_refusal([good, "--compare-dir", "{folder}/nowhere"], "{folder}/nowhere")
+
+    def test_an_unknown_option_and_no_runs(self):
+        self.expect_refusal(["--colour"], "--colour")
+        self.expect_refusal([], "run files")
+
+
+if __name__ == "__main__":
+    unittest.main()
