@@ -51,7 +51,7 @@ nlohmann::json soak_json(const SoakReport& report) {
   json["summary"] = {{"resident_after_warmup_bytes", report.resident_after_warmup},
                      {"resident_at_end_bytes", report.resident_at_end},
                      {"peak_resident_bytes", report.peak_resident},
-                     {"heap_after_warmup_bytes", report.heap_after_warmup},
+                     {"heap_at_half_bytes", report.heap_at_half},
                      {"heap_at_end_bytes", report.heap_at_end},
                      {"heap_growth_bytes_per_step", report.heap_growth_per_step},
                      {"energy_drift", number_or_null(report.energy_drift)},
@@ -89,7 +89,7 @@ std::string soak_markdown(const SoakReport& report) {
                1)
       << " MiB) |\n";
   out << "| peak resident memory | " << fixed(mebibytes(report.peak_resident), 1) << " MiB |\n";
-  out << "| heap in use after warm-up / at the end | " << report.heap_after_warmup << " / "
+  out << "| heap in use at the middle cycle's end / at the end | " << report.heap_at_half << " / "
       << report.heap_at_end << " bytes (" << fixed(report.heap_growth_per_step, 3)
       << " bytes a step between them) |\n";
   out << "| energy drift (last cycle's end against the first's) | "
@@ -98,8 +98,8 @@ std::string soak_markdown(const SoakReport& report) {
       << fixed(100.0 * report.final_shape_drift, 3) << "% |\n";
   out << "| speed, last tenth over first tenth (median steps/s) | "
       << fixed(report.speed_ratio, 3) << " |\n\n";
-  out << "| cycle | steps | steps/s | CPU ms/step | RSS (MiB) | energy (J) | shape drift | "
-         "peak tool force (N) |\n|---|---|---|---|---|---|---|---|\n";
+  out << "| cycle | steps | steps/s | CPU ms/step | RSS (MiB) | heap (bytes) | energy (J) | "
+         "shape drift | peak tool force (N) |\n|---|---|---|---|---|---|---|---|---|\n";
   const std::size_t count = report.cycles.size();
   const std::size_t every = std::max<std::size_t>(1, count / 10);
   for (std::size_t i = 0; i < count; ++i) {
@@ -109,7 +109,8 @@ std::string soak_markdown(const SoakReport& report) {
     const SoakCycle& cycle = report.cycles[i];
     out << "| " << cycle.cycle << " | " << cycle.steps << " | " << fixed(cycle.steps_per_second, 0)
         << " | " << fixed(cycle.cpu_ms_per_step, 3) << " | "
-        << fixed(mebibytes(cycle.resident_bytes), 1) << " | " << cycle.energy << " | "
+        << fixed(mebibytes(cycle.resident_bytes), 1) << " | " << cycle.heap_bytes << " | "
+        << cycle.energy << " | "
         << fixed(100.0 * cycle.shape_drift, 3) << "% | " << fixed(cycle.peak_tool_force, 3)
         << " |\n";
   }

@@ -195,14 +195,15 @@ void summarise_soak(SoakReport& report) {
   const std::size_t tenth = std::max<std::size_t>(1, cycles.size() / 10);
   report.resident_after_warmup = cycles[tenth - 1].resident_bytes;
   report.resident_at_end = cycles.back().resident_bytes;
-  report.heap_after_warmup = cycles[tenth - 1].heap_bytes;
+  const SoakCycle& middle = cycles[(cycles.size() - 1) / 2];
+  report.heap_at_half = middle.heap_bytes;
   report.heap_at_end = cycles.back().heap_bytes;
-  const long long steps_after_warmup = cycles.back().steps - cycles[tenth - 1].steps;
+  const long long steps_in_second_half = cycles.back().steps - middle.steps;
   report.heap_growth_per_step =
-      steps_after_warmup > 0 ? (static_cast<double>(report.heap_at_end) -
-                                static_cast<double>(report.heap_after_warmup)) /
-                                   static_cast<double>(steps_after_warmup)
-                             : 0.0;
+      steps_in_second_half > 0 ? (static_cast<double>(report.heap_at_end) -
+                                  static_cast<double>(report.heap_at_half)) /
+                                     static_cast<double>(steps_in_second_half)
+                               : 0.0;
   for (const SoakCycle& cycle : cycles) {
     report.peak_resident = std::max(report.peak_resident, cycle.peak_resident_bytes);
   }

@@ -78,9 +78,12 @@ struct SoakReport {
   std::size_t resident_after_warmup = 0;
   std::size_t resident_at_end = 0;
   std::size_t peak_resident = 0;
-  /// Heap in use after the warm-up and at the end (SoakCycle::heap_bytes), and the growth
-  /// between the two per step (bytes; 0 when the soak allocates nothing it keeps).
-  std::size_t heap_after_warmup = 0;
+  /// Heap in use at the end of the middle cycle and of the last (SoakCycle::heap_bytes), and
+  /// the growth between the two per step (bytes; 0 when the soak allocates nothing it keeps).
+  /// The middle, not the first tenth: the heap's warm-up (the allocator's per-thread caches,
+  /// containers reaching their working sizes) lasts some cycles, and a short soak's first
+  /// tenth is its first cycle.
+  std::size_t heap_at_half = 0;
   std::size_t heap_at_end = 0;
   double heap_growth_per_step = 0.0;
   /// (energy at the last cycle's end - at the first's) / max(|first|, kinetic scale).
