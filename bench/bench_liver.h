@@ -55,8 +55,8 @@ struct StepTotals {
 };
 
 /// The timed loop every model benchmark runs: `warm` (steps left out of the timing) `warm_up`
-/// times (once in a smoke run), then `timed` in batches of `batch` while the benchmark asks for more, its StepStats
-/// summed and reported (StepTotals::report; false if a step blew up).
+/// times (once in a smoke run), then `timed` in batches of `batch` while the benchmark asks for
+/// more, its StepStats summed and reported (StepTotals::report; false if a step blew up).
 template <class Warm, class Timed>
 bool time_steps(benchmark::State& state, int warm_up, int batch, Warm warm, Timed timed) {
   for (int step = 0; step < unless_smoke(warm_up, 1); ++step) {

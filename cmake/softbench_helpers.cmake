@@ -25,6 +25,26 @@ function(softbench_add_library name)
   target_precompile_headers(softbench_${name} PRIVATE ${ARG_PRECOMPILE})
 endfunction()
 
+# softbench_test_compile_options(TARGET): the options every test unit compiles with, and so the
+# shared precompiled header's host too (a header is only reused under the options it was built
+# with).
+function(softbench_test_compile_options target)
+  # The tests' own code (meshes made in code, expected values, loops over cases) runs briefly;
+  # the physics they check runs in the libraries, built as the preset says. At -O1 a test unit
+  # compiles in about two thirds of the time -O3 takes (the tests are a third of the release
+  # build), with the same floating-point results (no fast-math, no contraction).
+  target_compile_options(${target} PRIVATE $<$<CONFIG:Release>:-O1>)
+  # GCC 12's middle-end string warnings misfire on libstdc++'s inlined std::string code once
+  # optimised (known false positives: a bound of 2^64 - 1, an offset past the 32-byte
+  # small-string buffer), and through a precompiled header they are no longer taken for a
+  # system header's. Off in the tests, which build strings of file contents everywhere; the
+  # libraries keep them.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-array-bounds -Wno-stringop-overflow
+                                             -Wno-restrict)
+  endif()
+endfunction()
+
 # softbench_add_test(NAME SOURCES... LINK ...): one GoogleTest executable, tests discovered by ctest
 # and labelled with the executable's name (ctest -L models_test runs one executable's tests; the
 # sanitizer job picks its executables so).
@@ -33,27 +53,14 @@ function(softbench_add_test name)
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_LINK} softbench_test_support GTest::gmock GTest::gtest_main
                         OpenMP::OpenMP_CXX softbench::warnings)
-  # The tests' own code (meshes made in code, expected values, loops over cases) runs briefly;
-  # the physics they check runs in the libraries, built as the preset says. At -O1 a test unit
-  # compiles in about two thirds of the time -O3 takes (the tests are a third of the release
-  # build), with the same floating-point results (no fast-math, no contraction).
-  target_compile_options(${name} PRIVATE $<$<CONFIG:Release>:-O1>)
+  softbench_test_compile_options(${name})
   # Worth its own compile (about as long as one unit's) only where several units share it.
   list(LENGTH ARG_SOURCES units)
   if(units GREATER_EQUAL 4)
-    # One precompiled header for every test executable (softbench_test_pch, below): the test
-    # executables compile with the same options, so a header per executable was the same
-    # header built six times.
+    # One precompiled header for every test executable (softbench_test_pch in
+    # tests/CMakeLists.txt): they compile with the same options, so a header per executable was
+    # the same header built six times.
     target_precompile_headers(${name} REUSE_FROM softbench_test_pch)
-    # GCC 12's middle-end string warnings misfire on libstdc++'s inlined std::string code once
-    # optimised (known false positives: a bound of 2^64 - 1, an offset past the 32-byte
-    # small-string buffer), and through a precompiled header they are no longer taken for a
-    # system header's. Off in the tests, which build strings of file contents everywhere; the
-    # libraries keep them.
-    if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-      target_compile_options(${name} PRIVATE -Wno-array-bounds -Wno-stringop-overflow
-                                             -Wno-restrict)
-    endif()
   endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS ${name})
