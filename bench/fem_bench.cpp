@@ -19,8 +19,10 @@
 //   rotation method's error together.
 //
 // Variants: "cholmod", "cg", "cholesky_pcg" with the model's defaults on every mesh and thread
-// count; on liver.msh with one thread also cg with other tolerances, rotation methods and the
-// linear formulation (what the defaults trade).
+// count, and cg with what its defaults replaced: "cg+jacobi" (the Jacobi preconditioner),
+// "cg+last_warm_start" (from the last solution alone) and both; on liver.msh with one thread
+// also cg with other tolerances, rotation methods and the linear formulation (what the
+// defaults trade).
 //
 // Threads: T is set with omp_set_num_threads inside the benchmark. The model parallelises from
 // 16384 elements / 2048 vertices up, so liver.msh runs serially whatever T (see
@@ -108,6 +110,15 @@ std::vector<Variant> variants() {
   std::vector<Variant> result{{"cholmod", with(Params::LinearSolver::kCholmod)},
                               {"cg", with(Params::LinearSolver::kConjugateGradient)},
                               {"cholesky_pcg", with(Params::LinearSolver::kCholeskyPcg)}};
+  Params jacobi;
+  jacobi.preconditioner = Params::Preconditioner::kJacobi;
+  result.push_back({"cg+jacobi", jacobi});
+  Params last_only;
+  last_only.projected_warm_start = false;
+  result.push_back({"cg+last_warm_start", last_only});
+  Params jacobi_last = jacobi;
+  jacobi_last.projected_warm_start = false;
+  result.push_back({"cg+jacobi+last_warm_start", jacobi_last});
   // liver.msh only, one thread: what the defaults trade.
   for (const double tolerance : {3e-2, 1e-3, 1e-4}) {
     Params params;

@@ -188,6 +188,30 @@ bool InstrumentContact::behind_fold(Eigen::Index sample,
   return -nearest.signed_distance > reach;
 }
 
+// An instrument point farther than this from the tissue's surface is skipped by
+// resolve_instrument_vertices whichever side it is on. Outside: past the band (at most two
+// margins) of the surface where the step starts, and of its free flight too, since free flight
+// moves no point of the tissue farther than its fastest vertex. Inside: deeper than behind_fold's
+// reach at its largest (the fastest instrument point's and tissue vertex's motion this step, two
+// margins, kFoldDepth spacings). So the nearest-point search stops at it: on the liver pressed
+// by the probe most of the probe's points are far from the surface, and each costs a few node
+// tests instead of a search for its nearest triangle.
+double InstrumentContact::cull_radius(const Eigen::Isometry3d& pose) const {
+  double tissue_motion = 0.0;
+  for (Eigen::Index v = 0; v < start_.cols(); ++v) {
+    tissue_motion = std::max(tissue_motion, (predicted_.col(v) - start_.col(v)).squaredNorm());
+  }
+  double tool_motion = 0.0;  // a rigid motion's largest move is at a vertex of the mesh
+  for (Eigen::Index v = 0; v < instrument_local_.cols(); ++v) {
+    const Eigen::Vector3d local = instrument_local_.col(v);
+    tool_motion = std::max(tool_motion, (start_pose_ * local - pose * local).squaredNorm());
+  }
+  // Past the largest reach by a part in a million: round-off cannot tip a point over it.
+  constexpr double kSlack = 1.000001;
+  return kSlack * (std::sqrt(tissue_motion) + std::sqrt(tool_motion) + 2.0 * options_.margin
+                   + kFoldDepth * spacing_);
+}
+
 double InstrumentContact::instrument_distance(const Eigen::Isometry3d& pose,
                                               const Eigen::Vector3d& point) const {
   return instrument_distance_.nearest(pose.inverse() * point).signed_distance;
@@ -268,19 +292,24 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
   const double margin = options_.margin;
   const Aabb reach =
       inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
+  const double radius = cull_radius(pose);
   for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
     const Eigen::Vector3d p = samples_world_.col(i);
     if (!reach.contains(p)) {
       continue;
     }
-    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest_within(p, radius);
+    if (nearest.triangle < 0) {
+      continue;  // outside past the band, or inside past any fold's reach (cull_radius)
+    }
     const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
     const bool pressed =
         was_pressed(corners(0)) || was_pressed(corners(1)) || was_pressed(corners(2));
     // Short of the margin by its slack: a point of a curved instrument between tissue vertices
     // held at the margin (the chord's sagitta) is not a point the tissue passes.
     const double band = (pressed ? 2.0 * margin : margin) - kPointSlack * margin;
-    if (nearest.signed_distance >= band && predicted_distance_.signed_distance(p) >= band) {
+    if (nearest.signed_distance >= band
+        && predicted_distance_.signed_distance(p) >= band) {
       continue;
     }
     if (nearest.signed_distance < 0.0 && behind_fold(i, pose, nearest)) {
@@ -420,6 +449,8 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
   const double margin = options_.margin;
   tissue_distance_.update(positions);
   const Aabb reach = inflated(tissue_distance_.bounds(), margin);
+  // A point deeper than this is behind a fold (cull_radius), one farther outside not inside.
+  const double radius = cull_radius(pose);
   bool changed = false;
   for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
     const Eigen::Vector3d p = samples_world_.col(i);
@@ -429,8 +460,8 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
     // Only a point inside the tissue itself: one in the margin band is resolve()'s to judge at
     // the next step (a curved instrument's points come into the band between the vertices
     // held on it, and holding their triangles fully would make the contact stick).
-    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
-    if (nearest.signed_distance >= 0.0) {
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest_within(p, radius);
+    if (nearest.triangle < 0 || nearest.signed_distance >= 0.0) {
       continue;
     }
     if (behind_fold(i, pose, nearest)) {

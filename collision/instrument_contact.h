@@ -133,6 +133,9 @@ class InstrumentContact {
   /// Per tissue vertex: its target's index in targets_ while refine() runs, else -1.
   std::vector<int> target_index_;
   std::vector<int> dropped_vertices_;  ///< where dropped_ is set, to clear it at the next step
+  /// m: how far from the tissue's surface an instrument point can still push it or be checked
+  /// for a fold, this step (see the definition).
+  double cull_radius(const Eigen::Isometry3d& pose) const;
   bool follows_withdrawal(int vertex,
                           const Eigen::Vector3d& local_point,
                           const Eigen::Isometry3d& pose) const;

@@ -85,13 +85,15 @@ void MeshDistance::compute_pseudonormals() {
   }
 }
 
-MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryStats* stats) const {
+MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
+                                           double max_squared,
+                                           QueryStats* stats) const {
   Nearest best;
   QueryStats counts;
   if (tree_.empty()) {
     return best;
   }
-  double best_squared = std::numeric_limits<double>::infinity();
+  double best_squared = max_squared;
   // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
   std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;
   int top = 0;
@@ -133,6 +135,12 @@ MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryS
       stack[static_cast<std::size_t>(top++)] = {left, left_bound};
       stack[static_cast<std::size_t>(top++)] = {right, right_bound};
     }
+  }
+  if (best.triangle < 0) {  // nothing within the radius
+    if (stats != nullptr) {
+      *stats = counts;
+    }
+    return best;
   }
   best.distance = std::sqrt(best_squared);
   const Eigen::Vector3d normal = pseudonormal(best.triangle, best.feature);

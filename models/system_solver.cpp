@@ -2,6 +2,8 @@
 #include "models/system_solver.h"
 
 #include "models/blas_threads.h"
+#include "models/ssor_solver.h"
+#include "models/warm_start.h"
 
 #include <cholmod.h>
 
@@ -11,6 +13,7 @@
 #include <cstring>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -192,14 +195,8 @@ class PcgIterations {
       x.setZero();
       return report;
     }
-    // |offset + x0|^2_A, the energy the error is measured against (one product).
-    double reference_energy = 0.0;
-    if (offset != nullptr) {
-      direction_ = Eigen::Map<const Eigen::VectorXd>(offset, x.size()) + x;
-      a.multiply(direction_, product_);
-      reference_energy = std::max(0.0, direction_.dot(product_));
-    }
-    EnergyErrorEstimate estimate(std::max(reference_energy, energy_floor));
+    EnergyErrorEstimate estimate(
+        reference_energy(a, x, offset, energy_floor, direction_, product_));
 
     a.multiply(x, product_);
     double residual_norm =
@@ -425,19 +422,83 @@ class CholeskyPcgSolver final : public SystemSolver {
   bool stale_ = true;  ///< no factor yet, or the last solve needed too many iterations
 };
 
-}  // namespace
+/// An iterative solver started from GalerkinWarmStart's guess, which remembers its solutions.
+class ProjectedWarmStartSolver final : public SystemSolver {
+ public:
+  ProjectedWarmStartSolver(std::unique_ptr<SystemSolver> inner, const BlockPattern& pattern)
+      : inner_(std::move(inner)), warm_start_(pattern.size()) {}
 
-std::unique_ptr<SystemSolver> make_system_solver(const LinearSolverOptions& options,
-                                                 const BlockPattern& pattern) {
+  SolveReport solve(const BlockPattern& a,
+                    const Eigen::VectorXd& b,
+                    Eigen::VectorXd& x,
+                    const double* offset) override {
+    warm_start_.improve(b, x, [&a](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+      a.multiply(in, out);
+    });
+    inner_->set_energy_floor(energy_floor());
+    const SolveReport report = inner_->solve(a, b, x, offset);
+    if (report.succeeded) {
+      warm_start_.remember(x);
+    } else {
+      warm_start_.forget();
+    }
+    return report;
+  }
+  std::size_t memory_bytes() const override {
+    return inner_->memory_bytes() + warm_start_.memory_bytes();
+  }
+  void forget() override {
+    inner_->forget();
+    warm_start_.forget();
+  }
+
+ private:
+  std::unique_ptr<SystemSolver> inner_;
+  GalerkinWarmStart warm_start_;
+};
+
+std::unique_ptr<SystemSolver> make_iterative_solver(const LinearSolverOptions& options,
+                                                    const BlockPattern& pattern) {
   switch (options.kind) {
-    case LinearSolverOptions::Kind::kCholmod:
-      return std::make_unique<CholmodSolver>(pattern);
     case LinearSolverOptions::Kind::kCholeskyPcg:
       return std::make_unique<CholeskyPcgSolver>(options, pattern);
     case LinearSolverOptions::Kind::kConjugateGradient:
+    case LinearSolverOptions::Kind::kCholmod:
       break;
   }
+  if (options.preconditioner == LinearSolverOptions::Preconditioner::kSsor) {
+    return std::make_unique<SsorConjugateGradientSolver>(options, pattern);
+  }
   return std::make_unique<ConjugateGradientSolver>(options, pattern);
+}
+
+}  // namespace
+
+double reference_energy(const BlockPattern& a,
+                        const Eigen::VectorXd& x,
+                        const double* offset,
+                        double floor,
+                        Eigen::VectorXd& work,
+                        Eigen::VectorXd& product) {
+  double energy = 0.0;
+  if (offset != nullptr) {
+    work = Eigen::Map<const Eigen::VectorXd>(offset, x.size()) + x;
+    a.multiply(work, product);
+    energy = std::max(0.0, work.dot(product));
+  }
+  return std::max(energy, floor);
+}
+
+std::unique_ptr<SystemSolver> make_system_solver(const LinearSolverOptions& options,
+                                                 const BlockPattern& pattern) {
+  if (options.kind == LinearSolverOptions::Kind::kCholmod) {
+    return std::make_unique<CholmodSolver>(pattern);
+  }
+  std::unique_ptr<SystemSolver> solver = make_iterative_solver(options, pattern);
+  if (options.projected_warm_start) {
+    return std::make_unique<ProjectedWarmStartSolver>(std::move(solver), pattern);
+  }
+  return solver;
 }
 
 }  // namespace softbench

@@ -19,8 +19,8 @@ struct LinearSolverOptions {
     /// CHOLMOD supernodal LL^T: symbolic analysis once, a numeric factorisation every step.
     /// Exact (backward stable); its cost is the factorisation, which grows fast with the mesh.
     kCholmod,
-    /// Conjugate gradients with the Jacobi (inverse diagonal) preconditioner, warm-started from
-    /// the caller's guess, stopping at `tolerance` or `max_iterations`. Cheap per iteration.
+    /// Conjugate gradients with `preconditioner`, warm-started from the caller's guess, stopping
+    /// at `tolerance` or `max_iterations`. Cheap per iteration.
     kConjugateGradient,
     /// Conjugate gradients preconditioned by a CHOLMOD factor of an earlier step's matrix,
     /// kept across steps and refactorised (with the current matrix) when a solve needed more
@@ -29,6 +29,19 @@ struct LinearSolverOptions {
     kCholeskyPcg,
   };
   Kind kind = Kind::kConjugateGradient;
+  /// kConjugateGradient's preconditioner.
+  enum class Preconditioner {
+    /// The inverse diagonal: one product an iteration, parallel over vertices.
+    kJacobi,
+    /// Symmetric block Gauss-Seidel in Eisenstat's form (ssor_solver.h): two sweeps an iteration
+    /// that cost about one product, on one thread, and far fewer iterations.
+    kSsor,
+  };
+  Preconditioner preconditioner = Preconditioner::kJacobi;
+  /// Iterative kinds: start from the best combination of the caller's guess and the last
+  /// solutions (GalerkinWarmStart, warm_start.h; a few products a solve) instead of the guess
+  /// alone.
+  bool projected_warm_start = false;
   /// Iterative kinds: stop once the error's energy norm |x - x*|_A, estimated from the CG
   /// coefficients (Hestenes and Stiefel's estimate over the last kErrorDelay iterations, Strakos
   /// and Tichy 2002), is at most `tolerance` times the energy norm of what the solve is for:
@@ -101,6 +114,15 @@ class EnergyErrorEstimate {
   double error_ = 0.0;
 };
 
+/// The stopping rule's reference energy: |offset + x|^2_A (0 without an offset), and never less
+/// than `floor`. One product; `work` and `product` are size()-long scratch vectors.
+double reference_energy(const BlockPattern& a,
+                        const Eigen::VectorXd& x,
+                        const double* offset,
+                        double floor,
+                        Eigen::VectorXd& work,
+                        Eigen::VectorXd& product);
+
 /// What one solve of the implicit system cost and how well it did.
 struct SolveReport {
   int iterations = 0;     ///< CG iterations (0 for kCholmod)
@@ -127,6 +149,9 @@ class SystemSolver {
                             Eigen::VectorXd& x,
                             const double* offset) = 0;
   virtual std::size_t memory_bytes() const = 0;
+  /// Drops what the solver kept from earlier solves for its warm start (they were made for
+  /// other velocities, or before a reset).
+  virtual void forget() {}
 
   /// The least energy the iterative stopping rule measures the error against, whatever the
   /// offset (resting_energy(); 0: none, the default).

@@ -41,6 +41,10 @@ LinearSolverOptions solver_options(const CorotationalFemParams& params) {
       options.kind = LinearSolverOptions::Kind::kCholeskyPcg;
       break;
   }
+  options.preconditioner = params.preconditioner == CorotationalFemParams::Preconditioner::kSsor
+                               ? LinearSolverOptions::Preconditioner::kSsor
+                               : LinearSolverOptions::Preconditioner::kJacobi;
+  options.projected_warm_start = params.projected_warm_start;
   options.tolerance = params.cg_tolerance;
   options.max_iterations = params.cg_max_iterations;
   options.refresh_iterations = params.refresh_iterations;
@@ -137,6 +141,7 @@ void CorotationalFemModel::reset() {
   velocities_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   velocity_change_ = Eigen::VectorXd::Zero(pattern_->size());
+  solver_->forget();
   std::fill(quaternions_.begin(), quaternions_.end(), Eigen::Quaterniond::Identity());
   std::fill(rotations_.begin(), rotations_.end(), Eigen::Matrix3d::Identity());
   std::fill(deformations_.begin(), deformations_.end(), Eigen::Matrix3d::Identity());
@@ -159,6 +164,7 @@ void CorotationalFemModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   velocities_ = velocities;
   velocity_change_.setZero();
+  solver_->forget();
 }
 
 double CorotationalFemModel::elastic_energy() const {

@@ -49,12 +49,13 @@ namespace softbench {
 //
 // Defaults: the fastest settings that match CHOLMOD within 1% on the shipped liver, measured
 // with bench/fem_bench.cpp (1215 vertices, 4777 tets, E 3000 Pa, nu 0.3, dt = 1/60 s, pinned at
-// the lowest 10% of x and sagging under gravity by ~0.26 m RMS over 1 s; one core): warm-started
-// Jacobi-PCG to a relative residual of 1e-2 (~15 iterations, 1.46 ms per step = 683 steps/s;
-// positions after 60 steps within 0.1% of CHOLMOD's, which takes 17 ms per step) and 3
-// warm-started quaternion iterations per element (0.15% from the SVD's exact rotations; each
-// iteration costs ~0.03 ms per step on the liver, the SVD ~2.9 ms). Where the time goes (cg):
-// rotations 0.18 ms, assembly 0.59 ms, solve 0.68 ms.
+// the lowest 10% of x and sagging under gravity; one core) and on the liver scenes against
+// solver "cholmod": CG preconditioned by symmetric block Gauss-Seidel (models/ssor_solver.h),
+// started from the best combination of the last four velocity changes (models/warm_start.h),
+// stopped at an estimated energy-norm error of 1e-3 (6 iterations a step where Jacobi-PCG from
+// the last solution took 19; the tool force on liver_press within 0.005% RMS of CHOLMOD's,
+// liver_pull 0.0004%), and 3 warm-started quaternion iterations per element (0.15% from the
+// SVD's exact rotations; each iteration costs ~0.03 ms per step on the liver, the SVD ~2.9 ms).
 
 struct CorotationalFemParams {
   enum class Formulation { kCorotational, kLinear };
@@ -87,6 +88,15 @@ struct CorotationalFemParams {
   /// Cholesky factor kept across steps and refactorised when a solve needs more than
   /// refresh_iterations (few iterations while the matrix changes slowly, each costly).
   LinearSolver solver = LinearSolver::kConjugateGradient;
+  enum class Preconditioner { kJacobi, kSsor };
+  /// "cg" only. "ssor": symmetric block Gauss-Seidel (models/ssor_solver.h), few iterations,
+  /// each about one product, on one thread; "jacobi": the inverse diagonal, more iterations,
+  /// parallel over vertices from 2048.
+  Preconditioner preconditioner = Preconditioner::kSsor;
+  /// Iterative solvers: start each solve from the best combination (in the energy norm) of the
+  /// last step's velocity change and the three before it (models/warm_start.h; four products a
+  /// step) instead of the last one alone.
+  bool projected_warm_start = true;
   /// Iterative solvers: stop once the estimated energy-norm error of the new velocity is below
   /// cg_tolerance times its energy norm (LinearSolverOptions::tolerance): the error that matters,
   /// whatever dominates the right-hand side. Measured against CHOLMOD on liver_press: 1e-2 ->

@@ -47,6 +47,15 @@ ParamTable<Params> make_param_table() {
               "\"cholmod\": exact, refactorises every step (slow); \"cg\": warm-started "
               "Jacobi-PCG to cg_tolerance (fastest); \"cholesky_pcg\": PCG preconditioned by a "
               "Cholesky factor reused across steps, refreshed after a slow solve.")
+      .choice("preconditioner", &Params::preconditioner,
+              {{"ssor", Params::Preconditioner::kSsor},
+               {"jacobi", Params::Preconditioner::kJacobi}},
+              "cg only. \"ssor\": symmetric block Gauss-Seidel, few iterations of about one "
+              "product each, on one thread; \"jacobi\": the inverse diagonal, more iterations, "
+              "parallel over vertices on large meshes.")
+      .boolean("projected_warm_start", &Params::projected_warm_start,
+               "iterative solvers: start from the best combination (energy norm) of the last "
+               "four velocity changes, four products a step, instead of the last one alone.")
       .number("cg_tolerance", &Params::cg_tolerance, Range{0.0, 1.0, false, false},
               "iterative solvers: the estimated energy-norm error of the step's new velocity, "
               "relative, at which they stop. 1e-3 matches CHOLMOD within 0.03% on the liver press "

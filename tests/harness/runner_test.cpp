@@ -117,9 +117,10 @@ TEST_F(RunnerTest, RejectsABadBlockOfAModelNotRunBeforeAnyModelRuns) {
     EXPECT_EQ(std::string(error.what()),
               dir_.path().string()
                   + "/bar_sag.json: /models/corotational_fem/cg_tolerence: unknown key (known "
-                    "here: cg_max_iterations, cg_tolerance, formulation, rayleigh_mass, "
-                    "rayleigh_stiffness, refresh_iterations, rotation, rotation_iterations, "
-                    "rotation_tolerance, solver)");
+                    "here: cg_max_iterations, cg_tolerance, formulation, preconditioner, "
+                    "projected_warm_start, rayleigh_mass, rayleigh_stiffness, "
+                    "refresh_iterations, rotation, rotation_iterations, rotation_tolerance, "
+                    "solver)");
   }
   EXPECT_EQ(progress.str(), "");  // mass_spring never ran
 }

@@ -361,9 +361,12 @@ TEST(CorotationalFem, CholmodAndIterativeSolversAgreeToTheCgToleranceOnOneStep) 
   EXPECT_EQ(direct_stats.iterations, 0);
   EXPECT_LT(direct_stats.residual, 1e-12);  // a backward-stable direct solve
 
-  for (const Params::LinearSolver solver :
-       {Params::LinearSolver::kConjugateGradient, Params::LinearSolver::kCholeskyPcg}) {
-    auto iterative = make_corotational_fem(mesh, kMaterial, with_solver(solver, kCgTolerance));
+  Params jacobi = with_solver(Params::LinearSolver::kConjugateGradient, kCgTolerance);
+  jacobi.preconditioner = Params::Preconditioner::kJacobi;
+  for (const Params& params :
+       {with_solver(Params::LinearSolver::kConjugateGradient, kCgTolerance), jacobi,
+        with_solver(Params::LinearSolver::kCholeskyPcg, kCgTolerance)}) {
+    auto iterative = make_corotational_fem(mesh, kMaterial, params);
     const StepStats stats = iterative->step(1.0 / 30.0, input);
     EXPECT_GT(stats.iterations, 0);
     EXPECT_LE(stats.residual, kCgTolerance);

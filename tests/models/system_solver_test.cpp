@@ -1,0 +1,183 @@
+// SPDX-License-Identifier: MIT
+// The implicit models' linear solvers on a block system built here: an elasticity-like matrix
+// A = m I + sum over edges of G_e^T B_e G_e (B_e a random symmetric positive semi-definite 3x3
+// block, G_e x = x_i - x_j) on a box of tets. Symmetric positive definite, with the sparsity and
+// the conditioning of a backward Euler system (the mass term m against the stiffness).
+#include "models/block_pattern.h"
+#include "models/system_solver.h"
+#include "models/warm_start.h"
+
+#include "geometry/mesh_topology.h"
+#include "tests/test_meshes.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace softbench {
+namespace {
+
+using Kind = LinearSolverOptions::Kind;
+using Preconditioner = LinearSolverOptions::Preconditioner;
+
+/// The stiffness dominates the mass term a thousandfold, as dt^2 K does M on the liver.
+constexpr double kMass = 1e-3;
+
+struct BlockSystem {
+  BlockPattern pattern;
+  Eigen::MatrixXd dense;  ///< the same matrix, for exact answers
+};
+
+BlockSystem elastic_like_system(unsigned seed) {
+  const MeshData box = test::box_tets(6, 4, 3);
+  const Eigen::Matrix2Xi edges = unique_edges(box.tetrahedra);
+  const auto num_vertices = static_cast<int>(box.vertices.cols());
+  BlockSystem system{BlockPattern(num_vertices, edges), Eigen::MatrixXd::Zero(3 * num_vertices,
+                                                                             3 * num_vertices)};
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> entry(-1.0, 1.0);
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    Eigen::Matrix3d g;
+    for (int k = 0; k < 9; ++k) {
+      g(k) = entry(random);
+    }
+    const Eigen::Matrix3d block = g * g.transpose();
+    const int i = edges(0, e);
+    const int j = edges(1, e);
+    system.dense.block<3, 3>(3 * i, 3 * i) += block;
+    system.dense.block<3, 3>(3 * j, 3 * j) += block;
+    system.dense.block<3, 3>(3 * i, 3 * j) -= block;
+    system.dense.block<3, 3>(3 * j, 3 * i) -= block;
+    system.pattern.set(system.pattern.edge_block(static_cast<int>(e)), -block);
+    system.pattern.set(system.pattern.edge_block_transposed(static_cast<int>(e)), -block);
+  }
+  system.dense.diagonal().array() += kMass;
+  for (int v = 0; v < num_vertices; ++v) {
+    system.pattern.set(system.pattern.vertex_block(v), system.dense.block<3, 3>(3 * v, 3 * v));
+  }
+  return system;
+}
+
+Eigen::VectorXd random_vector(Eigen::Index size, unsigned seed) {
+  std::mt19937 random(seed);
+  std::normal_distribution<double> normal;
+  Eigen::VectorXd v(size);
+  for (Eigen::Index i = 0; i < size; ++i) {
+    v(i) = normal(random);
+  }
+  return v;
+}
+
+double energy_norm(const Eigen::MatrixXd& a, const Eigen::VectorXd& v) {
+  return std::sqrt(v.dot(a * v));
+}
+
+LinearSolverOptions cg_options(Preconditioner preconditioner, double tolerance) {
+  LinearSolverOptions options;
+  options.kind = Kind::kConjugateGradient;
+  options.preconditioner = preconditioner;
+  options.tolerance = tolerance;
+  options.max_iterations = 10000;
+  return options;
+}
+
+TEST(SystemSolver, EachPreconditionerMeetsTheEnergyNormTolerance) {
+  const BlockSystem system = elastic_like_system(1);
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 2);
+  const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
+  constexpr double kTolerance = 1e-6;
+  for (const Preconditioner preconditioner : {Preconditioner::kJacobi, Preconditioner::kSsor}) {
+    const auto solver =
+        make_system_solver(cg_options(preconditioner, kTolerance), system.pattern);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+    const SolveReport report = solver->solve(system.pattern, b, x, nullptr);
+    EXPECT_TRUE(report.converged);
+    // The estimate is a lower bound that tightens with its delay; a factor 10 covers its slack.
+    EXPECT_LT(energy_norm(system.dense, x - exact), 10.0 * kTolerance
+                                                        * energy_norm(system.dense, exact));
+    // The reported residual is the system's, |b - A x| / |b| (Jacobi's updated recursively:
+    // round-off apart), not the transformed one.
+    EXPECT_NEAR(report.residual, (b - system.dense * x).norm() / b.norm(),
+                1e-6 * report.residual + 1e-12);
+  }
+}
+
+TEST(SystemSolver, SymmetricGaussSeidelNeedsFewerIterationsThanJacobi) {
+  const BlockSystem system = elastic_like_system(3);
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 4);
+  int iterations[2] = {0, 0};
+  int k = 0;
+  for (const Preconditioner preconditioner : {Preconditioner::kJacobi, Preconditioner::kSsor}) {
+    const auto solver = make_system_solver(cg_options(preconditioner, 1e-8), system.pattern);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+    iterations[k++] = solver->solve(system.pattern, b, x, nullptr).iterations;
+  }
+  // Symmetric Gauss-Seidel squares about half of Jacobi's condition number away.
+  EXPECT_LT(iterations[1], 0.7 * iterations[0]) << iterations[0] << " vs " << iterations[1];
+}
+
+TEST(SystemSolver, SsorStartsFromTheGuessItIsGiven) {
+  const BlockSystem system = elastic_like_system(5);
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 6);
+  const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
+  const auto solver = make_system_solver(cg_options(Preconditioner::kSsor, 1e-6), system.pattern);
+  Eigen::VectorXd x = exact;
+  // The error is judged against |0 + x0|_A, the answer's own energy: the solve stops as soon as
+  // its estimate has its window, the exact answer kept, not solved again.
+  const Eigen::VectorXd no_offset = Eigen::VectorXd::Zero(b.size());
+  const SolveReport report = solver->solve(system.pattern, b, x, no_offset.data());
+  EXPECT_LE(report.iterations, EnergyErrorEstimate::kDelay);
+  EXPECT_LT((x - exact).norm(), 1e-9 * exact.norm());
+}
+
+TEST(GalerkinWarmStart, FindsASolutionLyingInTheSpanOfItsVectors) {
+  const BlockSystem system = elastic_like_system(7);
+  const Eigen::Index size = system.pattern.size();
+  GalerkinWarmStart warm_start(size);
+  const Eigen::VectorXd oldest = random_vector(size, 8);
+  const Eigen::VectorXd older = random_vector(size, 9);
+  const Eigen::VectorXd old = random_vector(size, 10);
+  const Eigen::VectorXd newest = random_vector(size, 11);  // dropped: the guess stands for it
+  for (const Eigen::VectorXd* v : {&oldest, &older, &old, &newest}) {
+    warm_start.remember(*v);
+  }
+  const Eigen::VectorXd guess = random_vector(size, 12);
+  const Eigen::VectorXd solution = 0.2 * guess - 0.7 * old + 1.5 * older + 0.1 * oldest;
+  const Eigen::VectorXd b = system.dense * solution;
+  Eigen::VectorXd x = guess;
+  warm_start.improve(b, x, [&system](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+    system.pattern.multiply(in, out);
+  });
+  EXPECT_LT((x - solution).norm(), 1e-9 * solution.norm());
+}
+
+TEST(GalerkinWarmStart, IsNoFartherFromTheSolutionThanTheGuessAndForgets) {
+  const BlockSystem system = elastic_like_system(13);
+  const Eigen::Index size = system.pattern.size();
+  const Eigen::VectorXd b = random_vector(size, 14);
+  const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
+  GalerkinWarmStart warm_start(size);
+  for (unsigned seed = 15; seed < 19; ++seed) {
+    warm_start.remember(exact + 0.1 * random_vector(size, seed));
+  }
+  const Eigen::VectorXd guess = exact + 0.1 * random_vector(size, 20);
+  const auto multiply = [&system](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
+    system.pattern.multiply(in, out);
+  };
+  Eigen::VectorXd x = guess;
+  warm_start.improve(b, x, multiply);
+  // The A-norm projection onto the span: its error is at most the guess's (which is in it).
+  EXPECT_LE(energy_norm(system.dense, x - exact), energy_norm(system.dense, guess - exact));
+  EXPECT_NE(x, guess);
+
+  warm_start.forget();
+  x = guess;
+  warm_start.improve(b, x, multiply);
+  EXPECT_EQ(x, guess);  // nothing remembered: the guess is kept as it is
+}
+
+}  // namespace
+}  // namespace softbench
