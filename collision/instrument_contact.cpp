@@ -143,7 +143,8 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
       instrument_local_(instrument.vertices),
       instrument_world_(instrument.vertices),
       spacing_(sample_spacing(tissue_positions, tissue_surface)),
-      samples_local_(surface_samples(instrument, spacing_)) {
+      samples_local_(surface_samples(instrument, spacing_)),
+      clearance_(samples_local_.cols(), instrument.vertices) {
   require_closed(tissue_surface, static_cast<int>(tissue_positions.cols()), "tissue surface");
   require_closed(instrument.triangles, instrument.num_vertices(), "instrument mesh");
   const auto vertices = static_cast<std::size_t>(tissue_positions.cols());
@@ -193,23 +194,11 @@ bool InstrumentContact::behind_fold(Eigen::Index sample,
 // margins) of the surface where the step starts, and of its free flight too, since free flight
 // moves no point of the tissue farther than its fastest vertex. Inside: deeper than behind_fold's
 // reach at its largest (the fastest instrument point's and tissue vertex's motion this step, two
-// margins, kFoldDepth spacings). So the nearest-point search stops at it: on the liver pressed
-// by the probe most of the probe's points are far from the surface, and each costs a few node
-// tests instead of a search for its nearest triangle.
-double InstrumentContact::cull_radius(const Eigen::Isometry3d& pose) const {
-  double tissue_motion = 0.0;
-  for (Eigen::Index v = 0; v < start_.cols(); ++v) {
-    tissue_motion = std::max(tissue_motion, (predicted_.col(v) - start_.col(v)).squaredNorm());
-  }
-  double tool_motion = 0.0;  // a rigid motion's largest move is at a vertex of the mesh
-  for (Eigen::Index v = 0; v < instrument_local_.cols(); ++v) {
-    const Eigen::Vector3d local = instrument_local_.col(v);
-    tool_motion = std::max(tool_motion, (start_pose_ * local - pose * local).squaredNorm());
-  }
+// margins, kFoldDepth spacings).
+double InstrumentContact::cull_radius() const {
   // Past the largest reach by a part in a million: round-off cannot tip a point over it.
   constexpr double kSlack = 1.000001;
-  return kSlack * (std::sqrt(tissue_motion) + std::sqrt(tool_motion) + 2.0 * options_.margin
-                   + kFoldDepth * spacing_);
+  return kSlack * (tissue_motion_ + tool_motion_ + 2.0 * options_.margin + kFoldDepth * spacing_);
 }
 
 double InstrumentContact::instrument_distance(const Eigen::Isometry3d& pose,
@@ -292,15 +281,23 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
   const double margin = options_.margin;
   const Aabb reach =
       inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
-  const double radius = cull_radius(pose);
+  const double radius = cull_radius();
+  clearance_.advance(start_, pose);
   for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
     const Eigen::Vector3d p = samples_world_.col(i);
     if (!reach.contains(p)) {
       continue;
     }
-    const MeshDistance::Nearest nearest = tissue_distance_.nearest_within(p, radius);
-    if (nearest.triangle < 0) {
-      continue;  // outside past the band, or inside past any fold's reach (cull_radius)
+    // Outside past the band where the step starts and in its free flight, or inside past any
+    // fold's reach (cull_radius): known without a query.
+    if (clearance_.outside_by(i, 2.0 * margin + tissue_motion_)
+        || clearance_.inside_by(i, radius)) {
+      continue;
+    }
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    clearance_.record(i, nearest.signed_distance);
+    if (nearest.distance > radius) {
+      continue;
     }
     const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
     const bool pressed =
@@ -351,6 +348,17 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   start_pose_ = last_pose_;
   instrument_world_ = pose * instrument_local_;
   samples_world_ = pose * samples_local_;
+  tissue_motion_ = 0.0;
+  for (Eigen::Index v = 0; v < positions.cols(); ++v) {
+    tissue_motion_ = std::max(tissue_motion_, (predicted_.col(v) - positions.col(v)).squaredNorm());
+  }
+  tissue_motion_ = std::sqrt(tissue_motion_);
+  tool_motion_ = 0.0;  // a rigid motion's largest move is at a vertex of the mesh
+  for (Eigen::Index v = 0; v < instrument_local_.cols(); ++v) {
+    const Eigen::Vector3d local = instrument_local_.col(v);
+    tool_motion_ = std::max(tool_motion_, (start_pose_ * local - pose * local).squaredNorm());
+  }
+  tool_motion_ = std::sqrt(tool_motion_);
   instrument_tree_.refit(instrument_world_);
   tissue_distance_.update(positions);
   predicted_distance_.update(predicted_);
@@ -449,19 +457,21 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
   const double margin = options_.margin;
   tissue_distance_.update(positions);
   const Aabb reach = inflated(tissue_distance_.bounds(), margin);
-  // A point deeper than this is behind a fold (cull_radius), one farther outside not inside.
-  const double radius = cull_radius(pose);
+  // A point deeper than this is behind a fold (cull_radius).
+  const double radius = cull_radius();
+  clearance_.advance(positions, pose);
   bool changed = false;
   for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
     const Eigen::Vector3d p = samples_world_.col(i);
-    if (!reach.contains(p)) {
+    if (!reach.contains(p) || clearance_.outside_by(i, 0.0) || clearance_.inside_by(i, radius)) {
       continue;
     }
     // Only a point inside the tissue itself: one in the margin band is resolve()'s to judge at
     // the next step (a curved instrument's points come into the band between the vertices
     // held on it, and holding their triangles fully would make the contact stick).
-    const MeshDistance::Nearest nearest = tissue_distance_.nearest_within(p, radius);
-    if (nearest.triangle < 0 || nearest.signed_distance >= 0.0) {
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    clearance_.record(i, nearest.signed_distance);
+    if (nearest.signed_distance >= 0.0) {
       continue;
     }
     if (behind_fold(i, pose, nearest)) {
@@ -523,12 +533,16 @@ ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
     }
   }
   tissue_distance_.update(positions);
+  clearance_.advance(positions, pose);
   const Aabb tissue_box = tissue_distance_.bounds();
   for (Eigen::Index i = 0; i < world.cols(); ++i) {
-    if (!tissue_box.contains(world.col(i))) {
+    // A point known to be outside has no depth: skipped without a query.
+    if (!tissue_box.contains(world.col(i)) || clearance_.outside_by(i, 0.0)) {
       continue;
     }
-    const double depth = -tissue_distance_.nearest(world.col(i)).signed_distance;
+    const double signed_distance = tissue_distance_.nearest(world.col(i)).signed_distance;
+    clearance_.record(i, signed_distance);
+    const double depth = -signed_distance;
     if (depth > 0.0) {
       report.max_penetration = std::max(report.max_penetration, depth);
     }

@@ -36,6 +36,7 @@
 #include "collision/bvh_collide.h"
 #include "collision/mesh_distance.h"
 #include "collision/query_stats.h"
+#include "collision/sample_clearance.h"
 #include "geometry/tri_mesh.h"
 
 #include <Eigen/Core>
@@ -135,7 +136,7 @@ class InstrumentContact {
   std::vector<int> dropped_vertices_;  ///< where dropped_ is set, to clear it at the next step
   /// m: how far from the tissue's surface an instrument point can still push it or be checked
   /// for a fold, this step (see the definition).
-  double cull_radius(const Eigen::Isometry3d& pose) const;
+  double cull_radius() const;
   bool follows_withdrawal(int vertex,
                           const Eigen::Vector3d& local_point,
                           const Eigen::Isometry3d& pose) const;
@@ -154,6 +155,9 @@ class InstrumentContact {
   Eigen::Matrix3Xd samples_local_;  ///< points on the instrument's surface (vertices and more)
   Eigen::Matrix3Xd sample_normals_local_;  ///< the instrument's outward pseudonormal at each sample
   Eigen::Matrix3Xd samples_world_;
+  SampleClearance clearance_;   ///< what is known of each sample's distance without a query
+  double tissue_motion_ = 0.0;  ///< m: this step's largest free-flight move of a tissue vertex
+  double tool_motion_ = 0.0;    ///< m: this step's largest move of an instrument vertex
   Eigen::Matrix3Xd predicted_;  ///< the tissue at the step's end without contact
   CollideBuffers buffers_;
   std::vector<TrianglePair> pairs_;
