@@ -49,6 +49,25 @@ MeshDistance::MeshDistance(const Eigen::Matrix3Xd& positions,
     }
   }
   edge_normals_.resize(3, static_cast<Eigen::Index>(edge_index.size()));
+  // Each vertex's corners (triangle * 3 + k), in the order compute_pseudonormals used to sum
+  // them (triangle by triangle), so the lazy sum is bit for bit the same.
+  corner_offsets_.assign(static_cast<std::size_t>(positions.cols()) + 1, 0);
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      ++corner_offsets_[static_cast<std::size_t>(triangles(k, t)) + 1];
+    }
+  }
+  for (std::size_t v = 0; v + 1 < corner_offsets_.size(); ++v) {
+    corner_offsets_[v + 1] += corner_offsets_[v];
+  }
+  corners_.resize(static_cast<std::size_t>(3 * triangles.cols()));
+  std::vector<int> next(corner_offsets_.begin(), corner_offsets_.end() - 1);
+  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      corners_[static_cast<std::size_t>(next[static_cast<std::size_t>(triangles(k, t))]++)] =
+          static_cast<int>(3 * t + k);
+    }
+  }
   compute_pseudonormals();
 }
 
@@ -63,10 +82,11 @@ void MeshDistance::update(const Eigen::Matrix3Xd& positions) {
   compute_pseudonormals();
 }
 
+// Face and edge pseudonormals for every triangle; a vertex's (a sum of angles, three atan2 a
+// triangle, most of an update's cost) only when a query's nearest feature is that vertex.
 void MeshDistance::compute_pseudonormals() {
   face_normals_.resize(3, triangles_.cols());
   edge_normals_.setZero();
-  vertex_normals_.setZero(3, positions_.cols());
   for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
     const Eigen::Vector3d a = positions_.col(triangles_(0, t)),
                           b = positions_.col(triangles_(1, t)),
@@ -76,13 +96,26 @@ void MeshDistance::compute_pseudonormals() {
     face_normals_.col(t) =
         length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
     const Eigen::Vector3d unit = face_normals_.col(t);
-    const Eigen::Vector3d corners[3] = {a, b, c};
     for (int k = 0; k < 3; ++k) {
       edge_normals_.col(triangle_edges_(k, t)) += unit;
-      vertex_normals_.col(triangles_(k, t)) +=
-          corner_angle(corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]) * unit;
     }
   }
+}
+
+Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = corner_offsets_[static_cast<std::size_t>(vertex)];
+       k < corner_offsets_[static_cast<std::size_t>(vertex) + 1]; ++k) {
+    const int corner = corners_[static_cast<std::size_t>(k)];
+    const int t = corner / 3;
+    const int at = corner % 3;
+    const Eigen::Vector3d corners[3] = {positions_.col(triangles_(0, t)),
+                                        positions_.col(triangles_(1, t)),
+                                        positions_.col(triangles_(2, t))};
+    sum += corner_angle(corners[at], corners[(at + 1) % 3], corners[(at + 2) % 3])
+           * face_normals_.col(t);
+  }
+  return sum;
 }
 
 MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
@@ -166,11 +199,11 @@ Eigen::Vector3d MeshDistance::pseudonormal(int t, TriangleFeature feature) const
     case TriangleFeature::kEdge20:
       return edge_normals_.col(triangle_edges_(2, t));
     case TriangleFeature::kVertex0:
-      return vertex_normals_.col(triangles_(0, t));
+      return vertex_pseudonormal(triangles_(0, t));
     case TriangleFeature::kVertex1:
-      return vertex_normals_.col(triangles_(1, t));
+      return vertex_pseudonormal(triangles_(1, t));
     case TriangleFeature::kVertex2:
-      return vertex_normals_.col(triangles_(2, t));
+      return vertex_pseudonormal(triangles_(2, t));
   }
   return Eigen::Vector3d::Zero();
 }

@@ -26,6 +26,7 @@
 #include <Eigen/Core>
 
 #include <limits>
+#include <vector>
 
 namespace softbench::collision {
 
@@ -87,6 +88,9 @@ class MeshDistance {
   /// The closest point among those within sqrt(max_squared) of `point`.
   Nearest search(const Eigen::Vector3d& point, double max_squared, QueryStats* stats) const;
   void compute_pseudonormals();
+  /// Angle-weighted pseudonormal (not normalised) of a vertex: its corners' angles times their
+  /// faces' unit normals.
+  Eigen::Vector3d vertex_pseudonormal(int vertex) const;
   /// Angle-weighted pseudonormal (not normalised) of a feature of triangle t.
   Eigen::Vector3d pseudonormal(int t, TriangleFeature feature) const;
 
@@ -96,7 +100,9 @@ class MeshDistance {
   Eigen::Matrix3Xi triangle_edges_;  ///< 3 x #T: edge index of edge k (vertex k to k + 1)
   Eigen::Matrix3Xd face_normals_;    ///< 3 x #T, unit (zero for a degenerate triangle)
   Eigen::Matrix3Xd edge_normals_;    ///< 3 x #E
-  Eigen::Matrix3Xd vertex_normals_;  ///< 3 x #V
+  /// Per vertex (CSR): its corners, triangle * 3 + the corner's index, in triangle order.
+  std::vector<int> corner_offsets_;
+  std::vector<int> corners_;
 };
 
 }  // namespace softbench::collision
