@@ -52,6 +52,16 @@
 //   cg                              85.1 ms   12/s  46.8 it, match 0.090%; 2 threads 41.5 ms
 //   cholesky_pcg                     296 ms  3.4/s  11.3 it
 //
+// 2026-11-27 (the same VM, slower that day by the old default's figure, and a soak's core
+// paused; one process, the four cg variants interleaved, 10 repetitions of 0.3 s, CPU-time
+// medians): cg (the default: SSOR and the projected warm start) 4.17 ms at 7.0 iterations,
+// cholmod_match 0.020%; cg+jacobi+last_warm_start (the default before) 4.15 ms at 21.2, 0.051%;
+// cg+jacobi 3.65 ms at 13.6, 0.117%; cg+last_warm_start 4.17 ms at 11.1, 0.024%. An SSOR
+// iteration costs about 2.5 Jacobi iterations (scalar gathers over half-columns, three 3x3
+// products a vertex); the default buys 2.5x the accuracy at the same cost here, and under
+// contact it is the faster (liver_press: 2.7 vs 3.1 ms median step, force within 0.005% RMS of
+// CHOLMOD's against 0.03%).
+//
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
 // under contact; the rule costs 23% on the liver and buys the contact force (within 0.06% of

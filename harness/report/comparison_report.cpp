@@ -317,8 +317,9 @@ std::string comparison_markdown(const Comparison& comparison) {
   std::ostringstream out;
   out << "# softbench compare: the thesis's chapter-3 comparison\n\n";
   out << "Ours: steps per second of `step()` alone (\"steps/s\") and of `step()` plus the step's "
-         "collision work (BVH refit, query, contact constraints), medians over the steps after "
-         "warm-up, on "
+         "collision work (BVH refit, query, contact constraints), each the steps after warm-up "
+         "over their summed time (a mean rate: the slow steps of a contact count in full, as a "
+         "median would not let them), on "
       << comparison.machine
       << ". The thesis's: frames per second with rendering on an Intel Core i3-2100 @ 3.1 GHz, "
          "one step per frame, on its own liver mesh (section 3.5.1; its \"FEM\" figure stands "

@@ -53,8 +53,10 @@ std::string summary_markdown(const scenes::Scene& scene, const std::vector<Model
   if (!scene.description.empty()) {
     out << scene.description << "\n\n";
   }
-  out << "dt = " << scene.dt << " s, " << scene.num_steps() << " steps; step times are medians "
-      << "over the steps after warm-up, measured around step() only.\n\n";
+  out << "dt = " << scene.dt << " s, " << scene.num_steps() << " steps; steps/s is the steps "
+      << "after warm-up over their summed time (a mean rate), around step() alone and around "
+      << "step() with the step's collision work; step ms are percentiles over the same steps, "
+      << "around step() alone.\n\n";
   out << "| model | stable | steps/s | steps/s with collision | step ms (median / p95 / max) | "
          "iterations | max inverted tets | max volume change | recovery residual | "
          "time to 1% (s) | max penetration (mm) | peak tool force (N) | warnings |\n";

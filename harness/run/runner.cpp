@@ -158,8 +158,8 @@ void print_outcome(const RunOptions& options, const ModelRun& run) {
                     << (run.stability.stable
                             ? "stable"
                             : "UNSTABLE at step " + std::to_string(*run.stability.diverged_at_step))
-                    << ", median step " << run.timing.step_ms.median << " ms ("
-                    << run.timing.steps_per_second << " steps/s)";
+                    << ", median step " << run.timing.step_ms.median << " ms, "
+                    << run.timing.steps_per_second << " steps/s over the timed steps' total";
   for (const Warning& warning : run.warnings) {
     *options.progress << "\n  warning: " << warning.id << ": " << warning.message;
   }
