@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "models/mass_spring/spring_system.h"
 
-#include <Eigen/Eigenvalues>
+#include "models/warm_start.h"
+
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -398,24 +399,12 @@ void SpringSystem::warm_start() {
       gram(j, i) = gram(i, j);
     }
   }
-  // The past solutions are often nearly parallel: solve on the eigenvectors the Gram matrix
-  // resolves (a pseudo-inverse), dropping the rest.
-  SmallVector combination = SmallVector::Zero();
-  const Eigen::SelfAdjointEigenSolver<Small> eigen(gram);
-  const double largest = eigen.eigenvalues().cwiseAbs().maxCoeff();
-  constexpr double kResolved = 1e-13;  // relative: below it an eigenvalue is round-off
-  for (int k = 0; k < kHistory; ++k) {
-    const double value = eigen.eigenvalues()(k);
-    if (value > kResolved * largest) {
-      combination +=
-          eigen.eigenvectors().col(k) * (eigen.eigenvectors().col(k).dot(projected) / value);
-    }
-  }
+  // The past solutions are often nearly parallel: GalerkinWarmStart's pseudo-inverse.
+  static_assert(kHistory == GalerkinWarmStart::kBasis);
+  const SmallVector combination = GalerkinWarmStart::coefficients(gram, projected);
   solution_.setZero();
-  if (combination.allFinite()) {
-    for (int j = 0; j < count; ++j) {
-      solution_ += combination(j) * basis_[static_cast<std::size_t>(j)];
-    }
+  for (int j = 0; j < count; ++j) {  // a zero combination when it was not finite
+    solution_ += combination(j) * basis_[static_cast<std::size_t>(j)];
   }
 }
 
