@@ -97,33 +97,31 @@ bool SsorConjugateGradientSolver::load_diagonal(const BlockPattern& a) {
   const double* column0 = values + column_begin_[vertex];
   const double* column1 = column0 + 3 * degree;
   const double* column2 = column1 + 3 * degree;
-  // The neighbours' y gathered into one contiguous run: each output is then a dot product the
-  // compiler vectorises (omp simd: a fixed order, deterministic).
-  constexpr int kGatherDegree = 64;
-  double gathered[3 * kGatherDegree];
-  double sum0 = 0.0;
-  double sum1 = 0.0;
-  double sum2 = 0.0;
-  for (int from = first; from < last; from += kGatherDegree) {
-    const int to = std::min(last, from + kGatherDegree);
-    for (int slot = from; slot < to; ++slot) {
-      const double* yn = y + 3 * neighbours_[static_cast<std::size_t>(begin + slot)];
-      double* into = gathered + 3 * (slot - from);
-      into[0] = yn[0];
-      into[1] = yn[1];
-      into[2] = yn[2];
-    }
-    const int length = 3 * (to - from);
-    const double* strip0 = column0 + 3 * from;
-    const double* strip1 = column1 + 3 * from;
-    const double* strip2 = column2 + 3 * from;
-#pragma omp simd reduction(+ : sum0, sum1, sum2)
-    for (int k = 0; k < length; ++k) {
-      sum0 += strip0[k] * gathered[k];
-      sum1 += strip1[k] * gathered[k];
-      sum2 += strip2[k] * gathered[k];
-    }
+  // Nine independent sums (a row of the block times a component of y_n each), so the
+  // multiply-adds of consecutive neighbours overlap instead of waiting on three running sums.
+  const int* neighbour = neighbours_.data() + begin;
+  double s00 = 0.0, s01 = 0.0, s02 = 0.0;
+  double s10 = 0.0, s11 = 0.0, s12 = 0.0;
+  double s20 = 0.0, s21 = 0.0, s22 = 0.0;
+  for (int slot = first; slot < last; ++slot) {
+    const double* yn = y + 3 * neighbour[slot];
+    const double y0 = yn[0];
+    const double y1 = yn[1];
+    const double y2 = yn[2];
+    const int at = 3 * slot;
+    s00 += column0[at] * y0;
+    s01 += column0[at + 1] * y1;
+    s02 += column0[at + 2] * y2;
+    s10 += column1[at] * y0;
+    s11 += column1[at + 1] * y1;
+    s12 += column1[at + 2] * y2;
+    s20 += column2[at] * y0;
+    s21 += column2[at + 1] * y1;
+    s22 += column2[at + 2] * y2;
   }
+  const double sum0 = (s00 + s01) + s02;
+  const double sum1 = (s10 + s11) + s12;
+  const double sum2 = (s20 + s21) + s22;
   out[0] = sum0;
   out[1] = sum1;
   out[2] = sum2;
