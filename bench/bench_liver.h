@@ -26,6 +26,7 @@ struct StepTotals {
   double factorizations = 0.0;
   double residuals = 0.0;
   double linear_solves = 0.0;
+  double truncated_solves = 0.0;
   bool finite = true;
 
   void add(const StepStats& stats) {
@@ -33,10 +34,12 @@ struct StepTotals {
     factorizations += stats.factorizations;
     residuals += stats.residual;
     linear_solves += stats.linear_solves;
+    truncated_solves += stats.truncated_solves;
     finite = finite && stats.finite;
   }
 
-  /// steps_per_s (a rate) and the means per step of iterations, factorizations, residual and
+  /// steps_per_s (a rate), the solves stopped at their cap (counted, and named in the label) and
+  /// the means per step of iterations, factorizations, residual and
   /// linear solves, over state.iterations() steps. False, with the benchmark marked as an error,
   /// if a step blew up: the timings would be of NaN arithmetic.
   bool report(benchmark::State& state) const {
@@ -50,6 +53,12 @@ struct StepTotals {
     state.counters["mean_factorizations"] = factorizations / steps;
     state.counters["mean_residual"] = residuals / steps;
     state.counters["mean_linear_solves"] = linear_solves / steps;
+    // A solve stopped by its cap is timed at the cap: the label says so beside the time.
+    state.counters["truncated_solves"] = truncated_solves;
+    if (truncated_solves > 0.0) {
+      state.SetLabel("TRUNCATED: " + std::to_string(static_cast<long long>(truncated_solves))
+                     + " solves stopped at their iteration cap");
+    }
     return true;
   }
 };

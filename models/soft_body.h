@@ -72,6 +72,9 @@ struct StepStats {
   double residual = 0.0;   ///< model-defined (documented in the model's header)
   int factorizations = 0;  ///< numeric Cholesky factorizations this step
   int linear_solves = 0;
+  /// Solves (linear, or a Newton loop) that stopped at their iteration cap before meeting their
+  /// tolerance: the step's answer is the cap's, not the tolerance's.
+  int truncated_solves = 0;
   double max_constraint_error = 0.0;  ///< m; > 0 means constraints were only approximated
   bool finite = true;                 ///< false if NaN/Inf appeared; the harness stops the run
 };

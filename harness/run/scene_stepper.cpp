@@ -69,6 +69,7 @@ StepStats SceneStepper::step(int step, SoftBody& body, double* model_seconds) {
     stats.iterations += again.iterations;
     stats.factorizations += again.factorizations;
     stats.linear_solves += again.linear_solves;
+    stats.truncated_solves += again.truncated_solves;
     stats.residual = again.residual;
     stats.max_constraint_error = again.max_constraint_error;
     stats.finite = again.finite;

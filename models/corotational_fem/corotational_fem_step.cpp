@@ -181,6 +181,7 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
   stats.residual = report.residual;
   stats.factorizations = report.factorizations;
   stats.linear_solves = 1;
+  stats.truncated_solves = report.converged ? 0 : 1;
   stats.finite = stats.finite && report.succeeded;
   clock.lap(&PhaseTimes::update);
   return stats;

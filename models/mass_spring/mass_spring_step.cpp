@@ -259,6 +259,7 @@ StepStats MassSpringModel::step_implicit(double dt, const StepInput& input, Phas
   stats.residual = report.residual;
   stats.factorizations = report.factorizations;
   stats.linear_solves = 1;
+  stats.truncated_solves = report.converged ? 0 : 1;
   stats.finite = stats.finite && report.succeeded;
   clock.lap(&PhaseTimes::update);
   return stats;

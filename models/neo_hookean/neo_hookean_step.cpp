@@ -227,6 +227,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
     positions_.swap(trial_);
   }
   stats.residual = step_norm / length_scale_;
+  stats.truncated_solves = stats.finite && !(step_norm <= converged_step) ? 1 : 0;
 
   velocities_ = (positions_ - previous_) / dt;
   constraint_forces_.setZero();

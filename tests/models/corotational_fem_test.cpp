@@ -406,8 +406,16 @@ TEST(CorotationalFem, ConjugateGradientReportsHittingItsIterationCap) {
   auto body = make_corotational_fem(liver_like_box(), kMaterial, params);
   const StepStats stats = body->step(kDt, StepInput{});
   EXPECT_EQ(stats.iterations, 3);
+  EXPECT_EQ(stats.truncated_solves, 1);  // stopped by the cap, not by the tolerance
   EXPECT_GT(stats.residual, 1e-14);
   EXPECT_TRUE(stats.finite);
+  // With room for it, the same solve meets its tolerance.
+  params.cg_max_iterations = 5000;
+  params.cg_tolerance = 1e-8;
+  EXPECT_EQ(make_corotational_fem(liver_like_box(), kMaterial, params)
+                ->step(kDt, StepInput{})
+                .truncated_solves,
+            0);
 }
 
 TEST(CorotationalFem, QuaternionAndSvdRotationsGiveTheSameMotionWhenConverged) {

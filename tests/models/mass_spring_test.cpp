@@ -367,8 +367,14 @@ TEST(MassSpring, ConjugateGradientReportsHittingItsIterationCap) {
   auto body = make_mass_spring(mesh, Material{}, params);
   const StepStats stats = body->step(1.0 / 30.0, StepInput{});
   EXPECT_EQ(stats.iterations, 3);
+  EXPECT_EQ(stats.truncated_solves, 1);  // stopped by the cap, not by the tolerance
   EXPECT_GT(stats.residual, 1e-14);
   EXPECT_TRUE(stats.finite);
+  params.cg_max_iterations = 5000;
+  params.cg_tolerance = 1e-8;
+  EXPECT_EQ(make_mass_spring(mesh, Material{}, params)->step(1.0 / 30.0, StepInput{})
+                .truncated_solves,
+            0);
 }
 
 TEST(MassSpring, ResetRestoresTheRestStateAfterABlowUp) {
