@@ -13,14 +13,15 @@
 // Counters (per step unless stated):
 // - steps_per_s (rate), mean_iterations (CG iterations for bullet_deformable and our implicit
 //   models, position iterations for bullet_softbody), mean_linear_solves, dt_s;
-// - Bullet variants: time_ratio_vs_<model> = this step's wall time / <model>'s, for each of our
-//   models measured earlier in the same process (> 1: Bullet is slower);
-// - BM_LargestStableDt: largest_stable_dt_s (0: none of the ladder), sim_s_per_wall_s (simulated
-//   seconds per wall second at that dt), final_max_speed_m_per_s (the largest vertex speed over
+// - Bullet variants: time_ratio_vs_<model> = this step's CPU time / <model>'s, for each of our
+//   models measured earlier in the same process (> 1: Bullet is slower; CPU time of the whole
+//   process, bench/thread_cpu_clock.h, so a descheduled thread does not skew the ratio);
+// - BM_LargestStableDt: largest_stable_dt_s (0: none of the ladder), sim_s_per_cpu_s (simulated
+//   seconds per CPU second at that dt), final_max_speed_m_per_s (the largest vertex speed over
 //   the last tenth of the run: a run that stays bounded without settling, as Bullet's explicit
 //   neo-Hookean at 1/30 s does, shows ~1 m/s here where a settling one shows ~0.01) and, for
-//   Bullet variants, sim_time_ratio_vs_<model> = <model>'s sim_s_per_wall_s / this one's (> 1:
-//   Bullet needs more wall time per simulated second).
+//   Bullet variants, sim_time_ratio_vs_<model> = <model>'s sim_s_per_cpu_s / this one's (> 1:
+//   Bullet needs more CPU time per simulated second).
 // "Stable" is the harness's test: no NaN, no vertex faster than the scene's 50 m/s, none
 // displaced more than 10 bounding-box diagonals, for 1 s of simulated time.
 //
@@ -28,6 +29,7 @@
 // OMP_WAIT_POLICY=passive as for step_bench. Bullet runs single-threaded.
 #include "bench/bench_liver.h"
 #include "bench/bench_smoke.h"
+#include "bench/thread_cpu_clock.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
@@ -39,7 +41,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -50,7 +51,6 @@
 namespace softbench {
 namespace {
 
-using Clock = std::chrono::steady_clock;
 
 const char* const kLivers[] = {"liver.msh", "liver_x4.msh"};
 constexpr int kWarmUpSteps = 10;
@@ -188,11 +188,11 @@ void step_benchmark(benchmark::State& state, const Variant& variant, const std::
   bench::StepTotals totals;
   double seconds = 0.0;
   while (state.KeepRunningBatch(kStepsPerBatch)) {
-    const Clock::time_point start = Clock::now();
+    const double start = bench::process_cpu_seconds();
     for (int step = 0; step < kStepsPerBatch; ++step) {
       totals.add(setting.body->step(dt, setting.input));
     }
-    seconds += std::chrono::duration<double>(Clock::now() - start).count();
+    seconds += bench::process_cpu_seconds() - start;
   }
   if (!totals.report(state)) {
     return;
@@ -210,7 +210,7 @@ void step_benchmark(benchmark::State& state, const Variant& variant, const std::
   }
 }
 
-/// Whether `variant` survives kStabilityTime at dt; its wall seconds per step meanwhile, and the
+/// Whether `variant` survives kStabilityTime at dt; its CPU seconds per step meanwhile, and the
 /// largest vertex speed over the run's last tenth (a bounded run that never settles shows here).
 bool survives(const Variant& variant,
               const TetMesh& mesh,
@@ -223,7 +223,7 @@ bool survives(const Variant& variant,
   const double max_displacement = scene.limits.max_displacement * (box.col(1) - box.col(0)).norm();
   const int steps = bench::unless_smoke(static_cast<int>(std::ceil(kStabilityTime / dt)), 2);
   final_speed = 0.0;
-  const Clock::time_point start = Clock::now();
+  const double start = bench::process_cpu_seconds();
   for (int step = 0; step < steps; ++step) {
     const StepStats stats = setting.body->step(dt, setting.input);
     const Eigen::Matrix3Xd& x = setting.body->positions();
@@ -237,7 +237,7 @@ bool survives(const Variant& variant,
       final_speed = std::max(final_speed, speed);
     }
   }
-  step_seconds = std::chrono::duration<double>(Clock::now() - start).count() / steps;
+  step_seconds = (bench::process_cpu_seconds() - start) / steps;
   return true;
 }
 
@@ -259,8 +259,8 @@ void stable_dt_benchmark(benchmark::State& state, const Variant& variant, const 
   if (largest == 0.0) {
     return;
   }
-  const double sim_rate = largest / step_seconds;  // simulated s per wall s
-  state.counters["sim_s_per_wall_s"] = sim_rate;
+  const double sim_rate = largest / step_seconds;  // simulated s per CPU s
+  state.counters["sim_s_per_cpu_s"] = sim_rate;
   state.counters["final_max_speed_m_per_s"] = final_speed;
   if (!variant.bullet) {
     our_sim_rates()[name][variant.label] = sim_rate;
