@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "models/ssor_solver.h"
 
+#include "models/eisenstat_cg.h"
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
@@ -205,10 +207,8 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   const double roundoff = kRoundoff * std::sqrt(transformed_rhs_squared);
 
   report.converged = residual_squared == 0.0;
-  double beta = 0.0;
-  while (!report.converged && report.iterations < options_.max_iterations) {
-    ++report.iterations;
-    // Backward sweep: p = z + beta p, t = (D + U)^-1 p, and g = p - D t, which is U t.
+  const auto sweeps = [&](double beta) {
+    // Backward: p = z + beta p, t = (D + U)^-1 p, and g = p - D t, which is U t.
     for (int c = n - 1; c >= 0; --c) {
       double pc[3];
       for (int k = 0; k < 3; ++k) {
@@ -223,7 +223,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
       g[3 * c + 1] = upper[1];
       g[3 * c + 2] = upper[2];
     }
-    // Forward sweep: y = (D + L)^-1 g (into g), q = A^ p = t + y, and p . q.
+    // Forward: y = (D + L)^-1 g (into g), q = A^ p = t + y, and p . q.
     double curvature = 0.0;
     for (int c = 0; c < n; ++c) {
       double lower[3];
@@ -241,36 +241,12 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
       q[3 * c + 2] = qc[2];
       curvature += dot3(p + 3 * c, qc);
     }
-    if (!(curvature > 0.0) || !std::isfinite(rz)) {
-      break;  // not positive definite, or NaN: stop with what we have
-    }
-    const double alpha = rz / curvature;
-    report.error = estimate.add(report.iterations, alpha * rz);
-    double rz_next = 0.0;
-    residual_squared = 0.0;
-    for (int c = 0; c < n; ++c) {
-      double rc[3];
-      for (int k = 0; k < 3; ++k) {
-        xs[3 * c + k] += alpha * p[3 * c + k];
-        rc[k] = r[3 * c + k] - alpha * q[3 * c + k];
-        r[3 * c + k] = rc[k];
-      }
-      double zc[3];
-      block_multiply(d + 9 * c, rc, zc);
-      z[3 * c] = zc[0];
-      z[3 * c + 1] = zc[1];
-      z[3 * c + 2] = zc[2];
-      rz_next += dot3(rc, zc);
-      residual_squared += dot3(rc, rc);
-    }
-    if (std::sqrt(residual_squared) <= roundoff || rz_next == 0.0
-        || estimate.met(report.iterations, options_.tolerance)) {
-      report.converged = true;
-      break;
-    }
-    beta = rz_next / rz;
-    rz = rz_next;
-  }
+    return curvature;
+  };
+  eisenstat_iterations(
+      n, xs, r, z, p, q, rz, roundoff, options_.tolerance, options_.max_iterations, estimate,
+      report, sweeps,
+      [d](int c, const double* in, double* out) { block_multiply(d + 9 * c, in, out); });
 
   // x = (D + U)^-1 x^ ...
   for (int c = n - 1; c >= 0; --c) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "models/mass_spring/spring_system.h"
 
+#include "models/eisenstat_cg.h"
 #include "models/warm_start.h"
 
 #include <Eigen/LU>
@@ -544,42 +545,14 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
 
   EnergyErrorEstimate estimate(reference_energy);
   report.converged = first_residual == 0.0;
-  double beta = 0.0;
-  while (!report.converged && report.iterations < max_iterations) {
-    ++report.iterations;
-    backward_sweep(beta);
-    const double curvature = forward_sweep();
-    if (!(curvature > 0.0) || !std::isfinite(rz)) {
-      break;  // not positive definite, or NaN: stop with what we have
-    }
-    const double alpha = rz / curvature;
-    report.error = estimate.add(report.iterations, alpha * rz);
-    double rz_next = 0.0;
-    residual_squared = 0.0;
-    for (int v = 0; v < num_vertices_; ++v) {
-      // Kept in locals: a vector load of values just stored one by one would stall.
-      double rv[3];
-      for (int a = 0; a < 3; ++a) {
-        w[3 * v + a] += alpha * p[3 * v + a];
-        rv[a] = r[3 * v + a] - alpha * q[3 * v + a];
-        r[3 * v + a] = rv[a];
-      }
-      double zv[3];
-      sym_multiply(filtered + 6 * v, rv, zv);
-      z[3 * v] = zv[0];
-      z[3 * v + 1] = zv[1];
-      z[3 * v + 2] = zv[2];
-      rz_next += dot3(rv, zv);
-      residual_squared += dot3(rv, rv);
-    }
-    if (std::sqrt(residual_squared) <= kRoundoff * first_residual || rz_next == 0.0
-        || estimate.met(report.iterations, tolerance)) {
-      report.converged = true;
-      break;
-    }
-    beta = rz_next / rz;
-    rz = rz_next;
-  }
+  eisenstat_iterations(
+      num_vertices_, w, r, z, p, q, rz, kRoundoff * first_residual, tolerance, max_iterations,
+      estimate, report,
+      [this](double beta) {
+        backward_sweep(beta);
+        return forward_sweep();
+      },
+      [filtered](int v, const double* in, double* out) { sym_multiply(filtered + 6 * v, in, out); });
 
   // w = (D + U)^-1 x^ ...
   for (int v = num_vertices_ - 1; v >= 0; --v) {
