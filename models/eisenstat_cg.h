@@ -7,6 +7,39 @@
 
 namespace softbench {
 
+/// r . z and |r|^2 of the start.
+struct EisenstatStart {
+  double rz = 0.0;
+  double residual_squared = 0.0;
+};
+
+/// The start of eisenstat_iterations from y = (D + L)^-1 (b - U x0): r^ = y - x0 (which by
+/// A = (D + L) + U is (D + L)^-1 (b - A x0)), z = D r^ and p = z. `y` may be `r` itself.
+template <class ApplyD>
+EisenstatStart eisenstat_start(int num_vertices,
+                               const double* y,
+                               const double* x0,
+                               double* r,
+                               double* z,
+                               double* p,
+                               const ApplyD& apply_d) {
+  EisenstatStart start;
+  for (int v = 0; v < num_vertices; ++v) {
+    const double rv[3] = {y[3 * v] - x0[3 * v], y[3 * v + 1] - x0[3 * v + 1],
+                          y[3 * v + 2] - x0[3 * v + 2]};
+    double zv[3];
+    apply_d(v, rv, zv);
+    for (int a = 0; a < 3; ++a) {
+      r[3 * v + a] = rv[a];
+      z[3 * v + a] = zv[a];
+      p[3 * v + a] = zv[a];
+    }
+    start.rz += rv[0] * zv[0] + rv[1] * zv[1] + rv[2] * zv[2];
+    start.residual_squared += rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
+  }
+  return start;
+}
+
 /// The iterations of conjugate gradients preconditioned by symmetric Gauss-Seidel (SSOR with
 /// omega = 1) in Eisenstat's form (1981), shared by the block-matrix solver (ssor_solver.h) and
 /// the mass-spring model's spring system: CG on A^ = (D + L)^-1 A (D + U)^-1 with the

@@ -173,8 +173,6 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
       g[3 * c + k] = bs[3 * c + k] - upper[k];
     }
   }
-  double rz = 0.0;
-  double residual_squared = 0.0;
   // (D + L) y = g, y into g (g_c is consumed at c); and in the same pass over the matrix
   // b^ = (D + L)^-1 b (into z), the scale of round-off for the transformed residual.
   double transformed_rhs_squared = 0.0;
@@ -190,23 +188,14 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     block_multiply(inverse + 9 * c, rhs_rest, z + 3 * c);
     transformed_rhs_squared += dot3(z + 3 * c, z + 3 * c);
   }
-  for (int c = 0; c < n; ++c) {
-    const double rc[3] = {g[3 * c] - xs[3 * c], g[3 * c + 1] - xs[3 * c + 1],
-                          g[3 * c + 2] - xs[3 * c + 2]};
-    double zc[3];
-    block_multiply(d + 9 * c, rc, zc);
-    for (int k = 0; k < 3; ++k) {
-      r[3 * c + k] = rc[k];
-      z[3 * c + k] = zc[k];
-      p[3 * c + k] = zc[k];
-    }
-    rz += dot3(rc, zc);
-    residual_squared += dot3(rc, rc);
-  }
+  const auto apply_d = [d](int c, const double* in, double* out) {
+    block_multiply(d + 9 * c, in, out);
+  };
+  const EisenstatStart start = eisenstat_start(n, g, xs, r, z, p, apply_d);
   x = product_;  // x holds x^ while iterating
   const double roundoff = kRoundoff * std::sqrt(transformed_rhs_squared);
 
-  report.converged = residual_squared == 0.0;
+  report.converged = start.residual_squared == 0.0;
   const auto sweeps = [&](double beta) {
     // Backward: p = z + beta p, t = (D + U)^-1 p, and g = p - D t, which is U t.
     for (int c = n - 1; c >= 0; --c) {
@@ -244,9 +233,8 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     return curvature;
   };
   eisenstat_iterations(
-      n, xs, r, z, p, q, rz, roundoff, options_.tolerance, options_.max_iterations, estimate,
-      report, sweeps,
-      [d](int c, const double* in, double* out) { block_multiply(d + 9 * c, in, out); });
+      n, xs, r, z, p, q, start.rz, roundoff, options_.tolerance, options_.max_iterations,
+      estimate, report, sweeps, apply_d);
 
   // x = (D + U)^-1 x^ ...
   for (int c = n - 1; c >= 0; --c) {

@@ -525,34 +525,23 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
     sym_multiply(inverse + 6 * v, g + 3 * v, y);
     push_owned(v, y, g);
   }
-  double rz = 0.0;
-  double residual_squared = 0.0;
-  for (int v = 0; v < num_vertices_; ++v) {
-    const double rv[3] = {r[3 * v] - w[3 * v], r[3 * v + 1] - w[3 * v + 1],
-                          r[3 * v + 2] - w[3 * v + 2]};
-    double zv[3];
-    sym_multiply(filtered + 6 * v, rv, zv);
-    for (int a = 0; a < 3; ++a) {
-      r[3 * v + a] = rv[a];
-      z[3 * v + a] = zv[a];
-      p[3 * v + a] = zv[a];
-    }
-    rz += dot3(rv, zv);
-    residual_squared += dot3(rv, rv);
-  }
+  const auto apply_d = [filtered](int v, const double* in, double* out) {
+    sym_multiply(filtered + 6 * v, in, out);
+  };
+  const EisenstatStart start = eisenstat_start(num_vertices_, r, w, r, z, p, apply_d);
   std::copy(q, q + size, w);  // w now holds x^
-  const double first_residual = std::sqrt(residual_squared);
+  const double first_residual = std::sqrt(start.residual_squared);
 
   EnergyErrorEstimate estimate(reference_energy);
   report.converged = first_residual == 0.0;
   eisenstat_iterations(
-      num_vertices_, w, r, z, p, q, rz, kRoundoff * first_residual, tolerance, max_iterations,
-      estimate, report,
+      num_vertices_, w, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance,
+      max_iterations, estimate, report,
       [this](double beta) {
         backward_sweep(beta);
         return forward_sweep();
       },
-      [filtered](int v, const double* in, double* out) { sym_multiply(filtered + 6 * v, in, out); });
+      apply_d);
 
   // w = (D + U)^-1 x^ ...
   for (int v = num_vertices_ - 1; v >= 0; --v) {
