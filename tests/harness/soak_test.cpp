@@ -13,6 +13,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <streambuf>
 #include <string>
 
@@ -52,17 +54,25 @@ TEST_F(SoakTest, CyclesTheSceneAndComesBackToTheSameStateEachCycle) {
   }
   EXPECT_GT(report.cycles.front().resident_bytes, 0u);
   EXPECT_GE(report.peak_resident, report.resident_at_end);
-  // Nothing a step allocates outlives it: once warm, the heap in use is the same to the byte at
-  // the end of every cycle (the soak's own series is reserved up front). The warm-up is the
-  // allocator's per-thread caches filling, a few hundred bytes a cycle over the first several;
-  // the second half of the soak is far past it.
+  // Nothing a step allocates outlives it: once warm, the heap in use at the end of every cycle
+  // stays within a few of the allocator's small blocks of the middle cycle's (the soak's own
+  // series is reserved up front). The warm-up is the allocator's per-thread caches filling, a
+  // few hundred bytes a cycle over the first several; the second half of the soak is far past
+  // it. Run alone the heap is the same to the byte; under a loaded `ctest -j2` it was 32 to 144
+  // bytes lower at some cycle ends than at the middle one, never higher. A leak of one block a
+  // step would add 16 bytes or more a step: 1,440 a cycle.
+  constexpr double kAllocatorJitter = 512.0;  // bytes
   EXPECT_GT(report.heap_at_half, 0u);
   const std::size_t half = report.cycles.size() / 2;
   for (std::size_t i = half; i < report.cycles.size(); ++i) {
-    EXPECT_EQ(report.cycles[i].heap_bytes, report.cycles[half].heap_bytes) << "cycle " << i + 1;
+    EXPECT_NEAR(static_cast<double>(report.cycles[i].heap_bytes),
+                static_cast<double>(report.cycles[half].heap_bytes), kAllocatorJitter)
+        << "cycle " << i + 1;
   }
   EXPECT_EQ(report.heap_at_half, report.cycles[half].heap_bytes);
-  EXPECT_EQ(report.heap_growth_per_step, 0.0);
+  const double second_half_steps =
+      static_cast<double>(report.cycles.back().steps - report.cycles[half].steps);
+  EXPECT_LE(std::abs(report.heap_growth_per_step), kAllocatorJitter / second_half_steps);
   EXPECT_GT(report.speed_ratio, 0.0);
   const nlohmann::json json = soak_json(report);
   EXPECT_EQ(json["cycles"].size(), 31u);
