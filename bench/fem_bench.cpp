@@ -62,6 +62,17 @@
 // contact it is the faster (liver_press: 2.7 vs 3.1 ms median step, force within 0.005% RMS of
 // CHOLMOD's against 0.03%).
 //
+// The larger livers the same day (interleaved, medians of 3, real time; cholmod_match in %):
+//                    1 thread              2 threads
+//   liver_x4   cg    16.9 ms  10.3 it 0.038  10.3 ms  9.9 it
+//              jacobi 14.0 ms 22.0 it 0.126  10.7 ms
+//   liver_x16  cg    133 ms   15.0 it 0.040   123 ms (1.09x)
+//              jacobi 145 ms  33.0 it 0.137   103 ms (1.41x)
+// The SSOR solve runs on one thread, so with two threads on liver_x16 Jacobi's parallel
+// products win by 16%, at 3.4x the error; with one thread SSOR wins everywhere but liver_x4.
+// The default stays SSOR at every size: a choice by thread count would make a run's bits
+// depend on it, and both meet the 1% goal ("jacobi" is the faster on many cores).
+//
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
 // under contact; the rule costs 23% on the liver and buys the contact force (within 0.06% of
