@@ -305,8 +305,7 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
     // Short of the margin by its slack: a point of a curved instrument between tissue vertices
     // held at the margin (the chord's sagitta) is not a point the tissue passes.
     const double band = (pressed ? 2.0 * margin : margin) - kPointSlack * margin;
-    if (nearest.signed_distance >= band
-        && predicted_distance_.signed_distance(p) >= band) {
+    if (nearest.signed_distance >= band && predicted_distance_.signed_distance(p) >= band) {
       continue;
     }
     if (nearest.signed_distance < 0.0 && behind_fold(i, pose, nearest)) {
@@ -348,17 +347,8 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   start_pose_ = last_pose_;
   instrument_world_ = pose * instrument_local_;
   samples_world_ = pose * samples_local_;
-  tissue_motion_ = 0.0;
-  for (Eigen::Index v = 0; v < positions.cols(); ++v) {
-    tissue_motion_ = std::max(tissue_motion_, (predicted_.col(v) - positions.col(v)).squaredNorm());
-  }
-  tissue_motion_ = std::sqrt(tissue_motion_);
-  tool_motion_ = 0.0;  // a rigid motion's largest move is at a vertex of the mesh
-  for (Eigen::Index v = 0; v < instrument_local_.cols(); ++v) {
-    const Eigen::Vector3d local = instrument_local_.col(v);
-    tool_motion_ = std::max(tool_motion_, (start_pose_ * local - pose * local).squaredNorm());
-  }
-  tool_motion_ = std::sqrt(tool_motion_);
+  tissue_motion_ = largest_move(positions, predicted_);
+  tool_motion_ = largest_move(instrument_local_, start_pose_, pose);
   instrument_tree_.refit(instrument_world_);
   tissue_distance_.update(positions);
   predicted_distance_.update(predicted_);

@@ -118,15 +118,13 @@ Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
   return sum;
 }
 
-MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
-                                           double max_squared,
-                                           QueryStats* stats) const {
+MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryStats* stats) const {
   Nearest best;
   QueryStats counts;
   if (tree_.empty()) {
     return best;
   }
-  double best_squared = max_squared;
+  double best_squared = std::numeric_limits<double>::infinity();
   // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
   std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;
   int top = 0;
@@ -168,12 +166,6 @@ MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
       stack[static_cast<std::size_t>(top++)] = {left, left_bound};
       stack[static_cast<std::size_t>(top++)] = {right, right_bound};
     }
-  }
-  if (best.triangle < 0) {  // nothing within the radius
-    if (stats != nullptr) {
-      *stats = counts;
-    }
-    return best;
   }
   best.distance = std::sqrt(best_squared);
   const Eigen::Vector3d normal = pseudonormal(best.triangle, best.feature);

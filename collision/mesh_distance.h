@@ -34,7 +34,7 @@ class MeshDistance {
  public:
   /// The mesh point closest to a query point.
   struct Nearest {
-    int triangle = -1;  ///< -1 for an empty mesh, or none within nearest_within's radius
+    int triangle = -1;                                ///< -1 for an empty mesh
     Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< m, the closest point
     /// Weights of the triangle's vertices 0, 1, 2 giving `point` (non-negative, sum 1).
     Eigen::Vector3d barycentric = Eigen::Vector3d(1.0, 0.0, 0.0);
@@ -60,18 +60,7 @@ class MeshDistance {
 
   /// The closest point of the mesh to `point`, its feature, and the sign from the pseudonormal
   /// test (see above). Ties go to the triangle found first. No allocation.
-  Nearest nearest(const Eigen::Vector3d& point, QueryStats* stats = nullptr) const {
-    return search(point, std::numeric_limits<double>::infinity(), stats);
-  }
-  /// nearest(point) if the mesh comes within `radius` of the point, else a Nearest with
-  /// triangle -1 and infinite distances. The descent prunes every node farther than the radius
-  /// from the start, so a point far from the mesh costs a few node tests instead of a search
-  /// for its nearest triangle.
-  Nearest nearest_within(const Eigen::Vector3d& point,
-                         double radius,
-                         QueryStats* stats = nullptr) const {
-    return search(point, radius * radius, stats);
-  }
+  Nearest nearest(const Eigen::Vector3d& point, QueryStats* stats = nullptr) const;
 
   /// Shorthands for nearest(point).signed_distance and its sign.
   double signed_distance(const Eigen::Vector3d& point) const {
@@ -85,8 +74,6 @@ class MeshDistance {
   const Eigen::Matrix3Xd& positions() const { return positions_; }
 
  private:
-  /// The closest point among those within sqrt(max_squared) of `point`.
-  Nearest search(const Eigen::Vector3d& point, double max_squared, QueryStats* stats) const;
   void compute_pseudonormals();
   /// Angle-weighted pseudonormal (not normalised) of a vertex: its corners' angles times their
   /// faces' unit normals.

@@ -6,6 +6,25 @@
 
 namespace softbench::collision {
 
+double largest_move(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
+  double largest = 0.0;
+  for (Eigen::Index v = 0; v < from.cols(); ++v) {
+    largest = std::max(largest, (to.col(v) - from.col(v)).squaredNorm());
+  }
+  return std::sqrt(largest);
+}
+
+double largest_move(const Eigen::Matrix3Xd& vertices,
+                    const Eigen::Isometry3d& from,
+                    const Eigen::Isometry3d& to) {
+  double largest = 0.0;
+  for (Eigen::Index v = 0; v < vertices.cols(); ++v) {
+    const Eigen::Vector3d local = vertices.col(v);
+    largest = std::max(largest, (to * local - from * local).squaredNorm());
+  }
+  return std::sqrt(largest);
+}
+
 SampleClearance::SampleClearance(Eigen::Index samples, const Eigen::Matrix3Xd& instrument)
     : instrument_(instrument),
       clearance_(static_cast<std::size_t>(samples), 0.0),
@@ -21,18 +40,9 @@ void SampleClearance::advance(const Eigen::Matrix3Xd& surface, const Eigen::Isom
     have_state_ = true;
     return;
   }
-  double surface_move = 0.0;
-  for (Eigen::Index v = 0; v < surface.cols(); ++v) {
-    surface_move = std::max(surface_move, (surface.col(v) - surface_.col(v)).squaredNorm());
-  }
-  double tool_move = 0.0;
-  for (Eigen::Index v = 0; v < instrument_.cols(); ++v) {
-    const Eigen::Vector3d local = instrument_.col(v);
-    tool_move = std::max(tool_move, (pose * local - pose_ * local).squaredNorm());
-  }
   // Rounded up by a part in a million: round-off cannot make the bound optimistic.
   constexpr double kSlack = 1.000001;
-  travel_ += kSlack * (std::sqrt(surface_move) + std::sqrt(tool_move));
+  travel_ += kSlack * (largest_move(surface_, surface) + largest_move(instrument_, pose_, pose));
   surface_ = surface;
   pose_ = pose;
 }

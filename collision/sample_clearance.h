@@ -8,6 +8,14 @@
 
 namespace softbench::collision {
 
+/// m: the farthest any vertex moved from `from` to `to` (3 x #V each, the same vertices).
+double largest_move(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to);
+/// m: the farthest any of a rigid body's `vertices` (its own frame) moves from pose `from` to
+/// pose `to`; no point on the surface they span moves farther (a rigid motion is affine).
+double largest_move(const Eigen::Matrix3Xd& vertices,
+                    const Eigen::Isometry3d& from,
+                    const Eigen::Isometry3d& to);
+
 /// What is known, without a query, of how far each of a rigid instrument's sample points is
 /// from a deforming closed surface (the tissue's) and on which side: conservative advancement.
 /// A nearest-point query gives a sample's signed distance d; until the surface or the

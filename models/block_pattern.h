@@ -56,6 +56,10 @@ class BlockPattern {
   BlockEntries row_block(int vertex, int slot) const;
   /// The first of vertex's 9 * neighbours(vertex).size() values: its three columns, contiguous.
   int column_values_begin(int vertex) const { return matrix_.outerIndexPtr()[3 * vertex]; }
+  /// The vertex's own slot in neighbours(vertex): its diagonal block's strips.
+  int own_slot(int vertex) const {
+    return (vertex_blocks_[static_cast<std::size_t>(vertex)][0] - column_values_begin(vertex)) / 3;
+  }
 
   /// Writes `block` (a 3x3 matrix) into the entries `where`.
   template <class Block>

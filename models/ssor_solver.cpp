@@ -6,9 +6,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace softbench {
 namespace {
@@ -36,8 +36,6 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
                                                          const BlockPattern& pattern)
     : options_(options),
       num_vertices_(pattern.num_vertices()),
-      column_begin_(static_cast<std::size_t>(pattern.num_vertices())),
-      self_slot_(static_cast<std::size_t>(pattern.num_vertices())),
       diagonal_(9 * static_cast<std::size_t>(pattern.num_vertices())),
       inverse_(9 * static_cast<std::size_t>(pattern.num_vertices())),
       row_sums_(9 * static_cast<std::size_t>(pattern.num_vertices())),
@@ -46,21 +44,7 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
       direction_(pattern.size()),
       product_(pattern.size()),
       sweep_(pattern.size()),
-      carry_(pattern.size()) {
-  offsets_.reserve(static_cast<std::size_t>(num_vertices_) + 1);
-  offsets_.push_back(0);
-  for (int c = 0; c < num_vertices_; ++c) {
-    const std::span<const int> list = pattern.neighbours(c);
-    for (std::size_t slot = 0; slot < list.size(); ++slot) {
-      if (list[slot] == c) {
-        self_slot_[static_cast<std::size_t>(c)] = static_cast<int>(slot);
-      }
-    }
-    neighbours_.insert(neighbours_.end(), list.begin(), list.end());
-    offsets_.push_back(static_cast<int>(neighbours_.size()));
-    column_begin_[static_cast<std::size_t>(c)] = pattern.column_values_begin(c);
-  }
-}
+      carry_(pattern.size()) {}
 
 bool SsorConjugateGradientSolver::load_diagonal(const BlockPattern& a) {
   const double* values = a.matrix().valuePtr();
@@ -87,21 +71,20 @@ bool SsorConjugateGradientSolver::load_diagonal(const BlockPattern& a) {
 }
 
 [[gnu::always_inline]] inline void SsorConjugateGradientSolver::neighbour_sum(
-    const double* values, int c, bool lower, const double* y, double* out) const {
+    const BlockPattern& a, int c, bool lower, const double* y, double* out) {
   // Row c of the symmetric matrix is column c: block (c, n) is the transpose of the strip of n
   // in c's columns, so (A_cn y_n)_k = column k's strip of n dotted with y_n.
-  const auto vertex = static_cast<std::size_t>(c);
-  const int begin = offsets_[vertex];
-  const int degree = offsets_[vertex + 1] - begin;
-  const int self = self_slot_[vertex];
-  const int first = lower ? 0 : self + 1;
-  const int last = lower ? self : degree;
-  const double* column0 = values + column_begin_[vertex];
+  const std::span<const int> neighbours = a.neighbours(c);
+  const auto degree = static_cast<int>(neighbours.size());
+  const int own = a.own_slot(c);
+  const int first = lower ? 0 : own + 1;
+  const int last = lower ? own : degree;
+  const double* column0 = a.matrix().valuePtr() + a.column_values_begin(c);
   const double* column1 = column0 + 3 * degree;
   const double* column2 = column1 + 3 * degree;
   // Nine independent sums (a row of the block times a component of y_n each), so the
   // multiply-adds of consecutive neighbours overlap instead of waiting on three running sums.
-  const int* neighbour = neighbours_.data() + begin;
+  const int* neighbour = neighbours.data();
   double s00 = 0.0, s01 = 0.0, s02 = 0.0;
   double s10 = 0.0, s11 = 0.0, s12 = 0.0;
   double s20 = 0.0, s21 = 0.0, s22 = 0.0;
@@ -148,7 +131,6 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   EnergyErrorEstimate estimate(
       reference_energy(a, x, offset, energy_floor(), direction_, product_));
 
-  const double* values = a.matrix().valuePtr();
   const double* d = diagonal_.data();
   const double* inverse = inverse_.data();
   const double* bs = b.data();
@@ -165,7 +147,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   // A = (D + L) + U is (D + L)^-1 (b - U x0) - x0.
   for (int c = 0; c < n; ++c) {
     double upper[3];
-    neighbour_sum(values, c, /*lower=*/false, xs, upper);
+    neighbour_sum(a, c, /*lower=*/false, xs, upper);
     double own[3];
     block_multiply(d + 9 * c, xs + 3 * c, own);
     for (int k = 0; k < 3; ++k) {
@@ -178,11 +160,11 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   double transformed_rhs_squared = 0.0;
   for (int c = 0; c < n; ++c) {
     double lower[3];
-    neighbour_sum(values, c, /*lower=*/true, g, lower);
+    neighbour_sum(a, c, /*lower=*/true, g, lower);
     const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
                             g[3 * c + 2] - lower[2]};
     block_multiply(inverse + 9 * c, rest, g + 3 * c);
-    neighbour_sum(values, c, /*lower=*/true, z, lower);
+    neighbour_sum(a, c, /*lower=*/true, z, lower);
     const double rhs_rest[3] = {bs[3 * c] - lower[0], bs[3 * c + 1] - lower[1],
                                 bs[3 * c + 2] - lower[2]};
     block_multiply(inverse + 9 * c, rhs_rest, z + 3 * c);
@@ -205,7 +187,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
         p[3 * c + k] = pc[k];
       }
       double upper[3];
-      neighbour_sum(values, c, /*lower=*/false, t, upper);
+      neighbour_sum(a, c, /*lower=*/false, t, upper);
       const double rest[3] = {pc[0] - upper[0], pc[1] - upper[1], pc[2] - upper[2]};
       block_multiply(inverse + 9 * c, rest, t + 3 * c);
       g[3 * c] = upper[0];
@@ -216,7 +198,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     double curvature = 0.0;
     for (int c = 0; c < n; ++c) {
       double lower[3];
-      neighbour_sum(values, c, /*lower=*/true, g, lower);
+      neighbour_sum(a, c, /*lower=*/true, g, lower);
       const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
                               g[3 * c + 2] - lower[2]};
       double y[3];
@@ -239,7 +221,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   // x = (D + U)^-1 x^ ...
   for (int c = n - 1; c >= 0; --c) {
     double upper[3];
-    neighbour_sum(values, c, /*lower=*/false, t, upper);
+    neighbour_sum(a, c, /*lower=*/false, t, upper);
     const double rest[3] = {xs[3 * c] - upper[0], xs[3 * c + 1] - upper[1],
                             xs[3 * c + 2] - upper[2]};
     block_multiply(inverse + 9 * c, rest, t + 3 * c);
@@ -249,7 +231,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
   for (int c = 0; c < n; ++c) {
     double lower[3];
-    neighbour_sum(values, c, /*lower=*/true, r, lower);
+    neighbour_sum(a, c, /*lower=*/true, r, lower);
     double own[3];
     block_multiply(d + 9 * c, r + 3 * c, own);
     for (int k = 0; k < 3; ++k) {
@@ -286,13 +268,11 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
 Eigen::Matrix3d SsorConjugateGradientSolver::translation_sums(const BlockPattern& a) {
   // Column c's strips: row_sums_[c](i, k) sums entry (n, i) of column (c, k) over the
   // neighbours n, i.e. (Z^T A)'s block at c, the transpose of (A Z)_c (A is symmetric).
-  const double* values = a.matrix().valuePtr();
   Eigen::Matrix3d total = Eigen::Matrix3d::Zero();
   for (int c = 0; c < num_vertices_; ++c) {
-    const auto vertex = static_cast<std::size_t>(c);
-    const int degree = offsets_[vertex + 1] - offsets_[vertex];
-    const double* column = values + column_begin_[vertex];
-    Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * vertex);
+    const auto degree = static_cast<int>(a.neighbours(c).size());
+    const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
+    Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * static_cast<std::size_t>(c));
     for (int k = 0; k < 3; ++k) {
       double s0 = 0.0;
       double s1 = 0.0;
@@ -313,10 +293,7 @@ Eigen::Matrix3d SsorConjugateGradientSolver::translation_sums(const BlockPattern
 }
 
 std::size_t SsorConjugateGradientSolver::memory_bytes() const {
-  return (offsets_.capacity() + neighbours_.capacity() + column_begin_.capacity()
-          + self_slot_.capacity())
-             * sizeof(int)
-         + (diagonal_.capacity() + inverse_.capacity() + row_sums_.capacity()) * sizeof(double)
+  return (diagonal_.capacity() + inverse_.capacity() + row_sums_.capacity()) * sizeof(double)
          + 6 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
 }
 

@@ -46,17 +46,12 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   bool load_diagonal(const BlockPattern& a);
   /// sum over c's neighbours n before c (lower: the forward sweep's) or after it (upper) of
   /// A_cn y_n, into out[3].
-  void neighbour_sum(const double* values, int c, bool lower, const double* y, double* out) const;
+  static void neighbour_sum(const BlockPattern& a, int c, bool lower, const double* y, double* out);
   /// Z^T A Z for the three rigid translations Z, and each vertex's block of Z^T A (row_sums_).
   Eigen::Matrix3d translation_sums(const BlockPattern& a);
 
   LinearSolverOptions options_;
   int num_vertices_ = 0;
-  // The pattern's layout, per vertex: its neighbours, its first value and its own slot.
-  std::vector<int> offsets_;
-  std::vector<int> neighbours_;
-  std::vector<int> column_begin_;
-  std::vector<int> self_slot_;
   std::vector<double> diagonal_;  ///< 9 per vertex, row-major D_c
   std::vector<double> inverse_;   ///< 9 per vertex, D_c^-1
   std::vector<double> row_sums_;  ///< 9 per vertex, column-major: (Z^T A)'s block at the vertex

@@ -23,10 +23,9 @@ GalerkinWarmStart::Coefficients GalerkinWarmStart::coefficients(const Gram& gram
   return combination.allFinite() ? combination : Coefficients::Zero();
 }
 
-GalerkinWarmStart::GalerkinWarmStart(Eigen::Index size) : guess_(size) {
-  for (std::size_t j = 0; j < history_.size(); ++j) {
-    history_[j] = Eigen::VectorXd::Zero(size);
-    products_[j] = Eigen::VectorXd::Zero(size);
+GalerkinWarmStart::GalerkinWarmStart(Eigen::Index size) : product_(size), guess_(size) {
+  for (Eigen::VectorXd& solution : history_) {
+    solution = Eigen::VectorXd::Zero(size);
   }
 }
 
@@ -37,7 +36,7 @@ void GalerkinWarmStart::remember(const Eigen::VectorXd& solution) {
 }
 
 std::size_t GalerkinWarmStart::memory_bytes() const {
-  return (2 * kBasis + 1) * static_cast<std::size_t>(guess_.size()) * sizeof(double);
+  return (kBasis + 2) * static_cast<std::size_t>(guess_.size()) * sizeof(double);
 }
 
 }  // namespace softbench

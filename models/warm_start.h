@@ -43,11 +43,10 @@ class GalerkinWarmStart {
     Coefficients projected = Coefficients::Zero();
     for (int j = 0; j < count; ++j) {
       const Eigen::VectorXd& basis = j == 0 ? x : remembered(j);
-      Eigen::VectorXd& product = products_[static_cast<std::size_t>(j)];
-      multiply(basis, product);
+      multiply(basis, product_);
       projected(j) = basis.dot(b);
       for (int i = 0; i <= j; ++i) {
-        gram(i, j) = (i == 0 ? x : remembered(i)).dot(product);
+        gram(i, j) = (i == 0 ? x : remembered(i)).dot(product_);
         gram(j, i) = gram(i, j);
       }
     }
@@ -76,7 +75,7 @@ class GalerkinWarmStart {
   }
 
   std::array<Eigen::VectorXd, kBasis> history_;
-  std::array<Eigen::VectorXd, kBasis> products_;
+  Eigen::VectorXd product_;  ///< A times the basis vector being added
   Eigen::VectorXd guess_;
   int head_ = kBasis - 1;
   int count_ = 0;

@@ -234,37 +234,6 @@ TEST(MeshDistance, UpdateFollowsMovedVertices) {
   }
 }
 
-TEST(MeshDistance, NearestWithinARadiusIsTheNearestOrNothingAndCostsLessFarAway) {
-  std::mt19937 rng(25);
-  std::uniform_real_distribution<double> coordinate(-3.0, 3.0);
-  for (const NamedMesh& named : closed_meshes()) {
-    SCOPED_TRACE(named.name);
-    const MeshDistance distance(named.mesh.vertices, named.mesh.triangles);
-    int found = 0, none = 0;
-    for (int k = 0; k < 2000; ++k) {
-      const Eigen::Vector3d p(coordinate(rng), coordinate(rng), coordinate(rng));
-      QueryStats full_stats, bounded_stats;
-      const MeshDistance::Nearest full = distance.nearest(p, &full_stats);
-      constexpr double kRadius = 0.3;
-      const MeshDistance::Nearest bounded = distance.nearest_within(p, kRadius, &bounded_stats);
-      EXPECT_LE(bounded_stats.node_visits, full_stats.node_visits);
-      if (full.distance < kRadius) {
-        ++found;
-        EXPECT_EQ(bounded.triangle, full.triangle);
-        EXPECT_EQ(bounded.signed_distance, full.signed_distance);
-        EXPECT_EQ(bounded.point, full.point);
-        EXPECT_EQ(bounded.normal, full.normal);
-      } else {
-        ++none;
-        EXPECT_EQ(bounded.triangle, -1);
-        EXPECT_EQ(bounded.distance, std::numeric_limits<double>::infinity());
-      }
-    }
-    EXPECT_GT(found, 20);  // both outcomes are exercised
-    EXPECT_GT(none, 500);
-  }
-}
-
 TEST(MeshDistance, CornersAndEdgesOfABoxGetTheRightSide) {
   const TriMesh box = box_surface(1);  // the unit cube, two triangles per face
   const MeshDistance distance(box.vertices, box.triangles);
