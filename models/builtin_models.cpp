@@ -4,6 +4,7 @@
 #include "models/mass_spring/mass_spring.h"
 #include "models/model_registry.h"
 #include "models/neo_hookean/neo_hookean.h"
+#include "models/projective_dynamics/projective_dynamics.h"
 #include "models/shape_matching/shape_matching.h"
 #if SOFTBENCH_WITH_BULLET
 #include "models/bullet/bullet_soft_body.h"
@@ -17,6 +18,7 @@ ModelRegistry make_builtin_registry() {
   registry.add(corotational_fem_info());
   registry.add(mass_spring_info());
   registry.add(neo_hookean_info());
+  registry.add(projective_dynamics_info());
   registry.add(shape_matching_info());
 #if SOFTBENCH_WITH_BULLET
   registry.add(bullet_deformable_info());

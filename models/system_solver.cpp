@@ -1,16 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "models/system_solver.h"
 
-#include "models/blas_threads.h"
+#include "models/cholmod_factor.h"
 #include "models/ssor_solver.h"
 #include "models/warm_start.h"
-
-#include <cholmod.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <span>
 #include <utility>
@@ -20,87 +17,6 @@ namespace softbench {
 namespace {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
-
-/// CHOLMOD through its C API rather than Eigen's wrapper: cholmod_solve2 reuses its output and
-/// workspace, so a solve allocates nothing after the first (Eigen's solve() allocates twice).
-/// Symbolic analysis once, numeric factorisation on demand.
-class CholmodFactor {
- public:
-  CholmodFactor(const SparseMatrix& pattern, bool supernodal) {
-    pin_blas_threads();  // the same bits at any thread count
-    cholmod_start(&common_);
-    common_.print = 0;  // failures are reported through SolveReport, not stderr
-    common_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
-    common_.final_asis = 1;
-    common_.quick_return_if_not_posdef = 1;
-    cholmod_sparse view = view_of(pattern);
-    factor_ = cholmod_analyze(&view, &common_);
-  }
-  ~CholmodFactor() {
-    cholmod_free_factor(&factor_, &common_);
-    cholmod_free_dense(&solution_, &common_);
-    cholmod_free_dense(&workspace_y_, &common_);
-    cholmod_free_dense(&workspace_e_, &common_);
-    cholmod_finish(&common_);
-  }
-  CholmodFactor(const CholmodFactor&) = delete;
-  CholmodFactor& operator=(const CholmodFactor&) = delete;
-
-  /// False when the matrix is not (numerically) positive definite or not finite.
-  bool factorize(const SparseMatrix& a) {
-    if (factor_ == nullptr) {
-      return false;
-    }
-    cholmod_sparse view = view_of(a);
-    const int ok = cholmod_factorize(&view, factor_, &common_);
-    return ok != 0 && common_.status == CHOLMOD_OK && factor_->minor == factor_->n;
-  }
-
-  /// x = A^-1 b with the last factorisation.
-  void solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
-    cholmod_dense rhs{};
-    rhs.nrow = static_cast<std::size_t>(b.size());
-    rhs.ncol = 1;
-    rhs.nzmax = rhs.nrow;
-    rhs.d = rhs.nrow;
-    rhs.x = const_cast<double*>(b.data());  // read only
-    rhs.xtype = CHOLMOD_REAL;
-    rhs.dtype = CHOLMOD_DOUBLE;
-    cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &solution_, nullptr, &workspace_y_,
-                   &workspace_e_, &common_);
-    std::memcpy(x.data(), solution_->x, static_cast<std::size_t>(x.size()) * sizeof(double));
-  }
-
-  std::size_t memory_bytes() const {
-    // Nonzeros of L as the analysis predicts them (values and row indices).
-    return static_cast<std::size_t>(common_.lnz) * (sizeof(double) + sizeof(int));
-  }
-
- private:
-  /// The lower triangle of the full symmetric matrix, without a copy (stype -1 ignores the rest).
-  static cholmod_sparse view_of(const SparseMatrix& a) {
-    cholmod_sparse view{};
-    view.nrow = static_cast<std::size_t>(a.rows());
-    view.ncol = static_cast<std::size_t>(a.cols());
-    view.nzmax = static_cast<std::size_t>(a.nonZeros());
-    view.p = const_cast<int*>(a.outerIndexPtr());  // CHOLMOD only reads them
-    view.i = const_cast<int*>(a.innerIndexPtr());
-    view.x = const_cast<double*>(a.valuePtr());
-    view.stype = -1;
-    view.itype = CHOLMOD_INT;
-    view.xtype = CHOLMOD_REAL;
-    view.dtype = CHOLMOD_DOUBLE;
-    view.sorted = 1;
-    view.packed = 1;
-    return view;
-  }
-
-  cholmod_common common_{};
-  cholmod_factor* factor_ = nullptr;
-  cholmod_dense* solution_ = nullptr;
-  cholmod_dense* workspace_y_ = nullptr;
-  cholmod_dense* workspace_e_ = nullptr;
-};
 
 double relative(double residual_norm, double rhs_norm) {
   return rhs_norm > 0.0 ? residual_norm / rhs_norm : residual_norm;

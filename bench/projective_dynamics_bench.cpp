@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: MIT
+// Projective Dynamics (models/projective_dynamics/) on the shipped livers, one core, in the
+// scene-like setting of step_bench (gravity, the lowest 10% of x pinned, dt 1/60 s), against
+// corotational_fem's default step in the same run:
+//
+// - BM_ProjectiveDynamicsStep/<variant>/<mesh>: one step. Counters: s_per_iteration (the
+//   step's CPU time over its local/global iterations, the step's fixed work included: the
+//   figure the per-iteration goal is about), and error_vs_converged, the RMS distance after 60
+//   steps (1 s of sag) to the same run at 300 iterations a step, over the RMS sag (computed
+//   outside the timing): what the variant's speed costs in accuracy.
+// - BM_ProjectiveDynamicsStep/corotational_fem/<mesh>: the peer.
+//
+// Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and quote medians;
+// the measured figures are in models/README.md.
+#include "bench/bench_liver.h"
+#include "models/model_registry.h"
+#include "models/projective_dynamics/projective_dynamics.h"
+
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <cmath>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace softbench {
+namespace {
+
+const char* const kLivers[] = {"liver.msh", "liver_x4.msh", "liver_x16.msh"};
+constexpr double kDt = 1.0 / 60.0;
+constexpr int kWarmUpSteps = 10;
+constexpr int kStepsPerBatch = 2;
+constexpr int kAccuracySteps = 60;
+const Material kLiverMaterial{3000.0, 0.3, 1060.0};
+
+struct Variant {
+  std::string label;
+  nlohmann::json params;
+};
+
+std::vector<Variant> variants() {
+  return {{"defaults", nlohmann::json::object()},
+          {"no_chebyshev", {{"chebyshev_rho", 0.0}}},
+          {"iterations:5", {{"iterations", 5}}},
+          {"iterations:20", {{"iterations", 20}}}};
+}
+
+std::unique_ptr<SoftBody> make(const TetMesh& mesh,
+                               const std::string& model,
+                               const nlohmann::json& params) {
+  return builtin_models().at(model).create(mesh, kLiverMaterial, params,
+                                           ParamSource{"projective_dynamics_bench", "/" + model});
+}
+
+StepInput liver_input(const std::vector<PositionConstraint>& pins) {
+  StepInput input;
+  input.constraints = pins;
+  return input;
+}
+
+/// The variant's positions after kAccuracySteps against the converged run's, relative to the
+/// converged run's RMS motion; cached per (mesh, variant): repetitions do not redo it.
+double error_vs_converged(const std::string& liver, const Variant& variant) {
+  static std::map<std::string, double> cache;
+  const std::string key = liver + "/" + variant.label;
+  if (const auto found = cache.find(key); found != cache.end()) {
+    return found->second;
+  }
+  const TetMesh& mesh = bench::shipped_liver(liver);
+  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
+  const StepInput input = liver_input(pins);
+  const int steps = bench::unless_smoke(kAccuracySteps, 2);
+  const auto run = [&](const nlohmann::json& params) {
+    const std::unique_ptr<SoftBody> body = make(mesh, "projective_dynamics", params);
+    for (int step = 0; step < steps; ++step) {
+      body->step(kDt, input);
+    }
+    return Eigen::Matrix3Xd(body->positions());
+  };
+  nlohmann::json converged = variant.params;
+  converged["iterations"] = 300;
+  const Eigen::Matrix3Xd exact = run(converged);
+  const Eigen::Matrix3Xd approximate = run(variant.params);
+  const double motion = std::sqrt((exact - mesh.rest_positions()).colwise().squaredNorm().mean());
+  const double error = std::sqrt((approximate - exact).colwise().squaredNorm().mean()) / motion;
+  cache[key] = error;
+  return error;
+}
+
+void model_step(benchmark::State& state,
+                const std::string& liver,
+                const std::string& model,
+                const nlohmann::json& params) {
+  omp_set_num_threads(1);
+  const TetMesh& mesh = bench::shipped_liver(liver);
+  const std::unique_ptr<SoftBody> body = make(mesh, model, params);
+  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
+  const StepInput input = liver_input(pins);
+  double iterations = 0.0;
+  const auto step = [&] { return body->step(kDt, input); };
+  const auto timed = [&] {
+    const StepStats stats = body->step(kDt, input);
+    iterations += stats.iterations;
+    return stats;
+  };
+  if (!bench::time_steps(state, kWarmUpSteps, kStepsPerBatch, step, timed)) {
+    return;
+  }
+  state.counters["s_per_iteration"] = benchmark::Counter(
+      iterations, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void register_benchmarks() {
+  for (const char* liver : kLivers) {
+    for (const Variant& variant : variants()) {
+      benchmark::RegisterBenchmark(
+          ("BM_ProjectiveDynamicsStep/" + variant.label + "/" + liver).c_str(),
+          [variant, liver](benchmark::State& state) {
+            model_step(state, liver, "projective_dynamics", variant.params);
+            state.counters["error_vs_converged"] = error_vs_converged(liver, variant);
+          })
+          ->Unit(benchmark::kMillisecond);
+    }
+    benchmark::RegisterBenchmark(
+        (std::string("BM_ProjectiveDynamicsStep/corotational_fem/") + liver).c_str(),
+        [liver](benchmark::State& state) {
+          model_step(state, liver, "corotational_fem", nlohmann::json::object());
+        })
+        ->Unit(benchmark::kMillisecond);
+  }
+}
+
+const bool kRegistered = (register_benchmarks(), true);
+
+}  // namespace
+}  // namespace softbench

@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: MIT
+#include "models/cholmod_factor.h"
+
+#include "models/blas_threads.h"
+
+#include <cstring>
+
+namespace softbench {
+namespace {
+
+/// The lower triangle of the full symmetric matrix, without a copy (stype -1 ignores the rest).
+cholmod_sparse view_of(const Eigen::SparseMatrix<double>& a) {
+  cholmod_sparse view{};
+  view.nrow = static_cast<std::size_t>(a.rows());
+  view.ncol = static_cast<std::size_t>(a.cols());
+  view.nzmax = static_cast<std::size_t>(a.nonZeros());
+  view.p = const_cast<int*>(a.outerIndexPtr());  // CHOLMOD only reads them
+  view.i = const_cast<int*>(a.innerIndexPtr());
+  view.x = const_cast<double*>(a.valuePtr());
+  view.stype = -1;
+  view.itype = CHOLMOD_INT;
+  view.xtype = CHOLMOD_REAL;
+  view.dtype = CHOLMOD_DOUBLE;
+  view.sorted = 1;
+  view.packed = 1;
+  return view;
+}
+
+}  // namespace
+
+CholmodFactor::CholmodFactor(const Eigen::SparseMatrix<double>& pattern, bool supernodal) {
+  pin_blas_threads();  // the same bits at any thread count
+  cholmod_start(&common_);
+  common_.print = 0;  // failures are reported by factorize(), not on stderr
+  common_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
+  common_.final_asis = 1;
+  common_.quick_return_if_not_posdef = 1;
+  cholmod_sparse view = view_of(pattern);
+  factor_ = cholmod_analyze(&view, &common_);
+}
+
+CholmodFactor::~CholmodFactor() {
+  cholmod_free_factor(&factor_, &common_);
+  cholmod_free_dense(&solution_, &common_);
+  cholmod_free_dense(&workspace_y_, &common_);
+  cholmod_free_dense(&workspace_e_, &common_);
+  cholmod_finish(&common_);
+}
+
+bool CholmodFactor::factorize(const Eigen::SparseMatrix<double>& a) {
+  if (factor_ == nullptr) {
+    return false;
+  }
+  cholmod_sparse view = view_of(a);
+  const int ok = cholmod_factorize(&view, factor_, &common_);
+  return ok != 0 && common_.status == CHOLMOD_OK && factor_->minor == factor_->n;
+}
+
+void CholmodFactor::solve(const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  solve(b.data(), 1, x.data());
+}
+
+void CholmodFactor::solve(const double* b, int columns, double* x) {
+  cholmod_dense rhs{};
+  rhs.nrow = factor_->n;
+  rhs.ncol = static_cast<std::size_t>(columns);
+  rhs.nzmax = rhs.nrow * rhs.ncol;
+  rhs.d = rhs.nrow;
+  rhs.x = const_cast<double*>(b);  // read only
+  rhs.xtype = CHOLMOD_REAL;
+  rhs.dtype = CHOLMOD_DOUBLE;
+  cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &solution_, nullptr, &workspace_y_,
+                 &workspace_e_, &common_);
+  std::memcpy(x, solution_->x, rhs.nzmax * sizeof(double));
+}
+
+std::size_t CholmodFactor::memory_bytes() const {
+  // Nonzeros of L as the analysis predicts them (values and row indices).
+  return static_cast<std::size_t>(common_.lnz) * (sizeof(double) + sizeof(int));
+}
+
+}  // namespace softbench
