@@ -28,13 +28,18 @@ cholmod_sparse view_of(const Eigen::SparseMatrix<double>& a) {
 
 }  // namespace
 
-CholmodFactor::CholmodFactor(const Eigen::SparseMatrix<double>& pattern, bool supernodal) {
+CholmodFactor::CholmodFactor(const Eigen::SparseMatrix<double>& pattern,
+                             bool supernodal,
+                             bool sparsest_ordering) {
   pin_blas_threads();  // the same bits at any thread count
   cholmod_start(&common_);
   common_.print = 0;  // failures are reported by factorize(), not on stderr
   common_.supernodal = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
   common_.final_asis = 1;
   common_.quick_return_if_not_posdef = 1;
+  if (sparsest_ordering) {
+    common_.nmethods = CHOLMOD_MAXMETHODS;  // every ordering CHOLMOD has; the sparsest L wins
+  }
   cholmod_sparse view = view_of(pattern);
   factor_ = cholmod_analyze(&view, &common_);
 }

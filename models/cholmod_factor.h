@@ -19,7 +19,14 @@ class CholmodFactor {
  public:
   /// `supernodal`: BLAS-3 supernodes (large factors, fewer solves) or the simplicial LDL^T,
   /// whose triangular solves are cheaper on small factors solved many times.
-  CholmodFactor(const Eigen::SparseMatrix<double>& pattern, bool supernodal);
+  /// `sparsest_ordering`: the analysis tries every fill-reducing ordering CHOLMOD has (AMD,
+  /// METIS, its nested dissection, ...) and keeps the sparsest factor, instead of AMD alone: a
+  /// slower analysis that pays when one factor serves many solves (on the shipped liver's
+  /// scalar Laplacian 53.7k nonzeros in L instead of AMD's 60.0k, on liver_x4 334k instead of
+  /// 422k).
+  CholmodFactor(const Eigen::SparseMatrix<double>& pattern,
+                bool supernodal,
+                bool sparsest_ordering = false);
   ~CholmodFactor();
   CholmodFactor(const CholmodFactor&) = delete;
   CholmodFactor& operator=(const CholmodFactor&) = delete;

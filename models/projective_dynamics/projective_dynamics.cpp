@@ -56,9 +56,11 @@ ProjectiveDynamicsModel::ProjectiveDynamicsModel(const TetMesh& mesh,
   laplacian_.setFromTriplets(entries.begin(), entries.end());
   laplacian_.makeCompressed();
   system_ = laplacian_;
-  // Simplicial: on meshes of this size its triangular solves, done three at a time every
-  // iteration, cost less than supernodal ones, and the factorisation is rare.
-  factor_ = std::make_unique<CholmodFactor>(system_, /*supernodal=*/false);
+  // Simplicial: its triangular solves, three right-hand sides at a time every iteration, cost
+  // less than supernodal ones on the liver, and the factorisation is rare; for the same
+  // reason the sparsest ordering is worth its analysis.
+  factor_ = std::make_unique<CholmodFactor>(system_, /*supernodal=*/false,
+                                            /*sparsest_ordering=*/true);
 
   // Vertex incidences, in element order: the gather of b sums in a fixed order.
   vertex_offsets_.assign(static_cast<std::size_t>(num_vertices_) + 1, 0);
@@ -78,7 +80,10 @@ ProjectiveDynamicsModel::ProjectiveDynamicsModel(const TetMesh& mesh,
   quaternions_.resize(num_elements);
   deformations_.resize(num_elements);
   rotations_.resize(num_elements);
-  element_parts_.resize(num_elements);
+  element_sums_.resize(3, num_vertices_);
+  if (num_elements_ > kParallelElements) {
+    element_parts_.resize(num_elements);  // the parallel local step's per-element storage
+  }
   multiplier_holds_.reserve(static_cast<std::size_t>(num_vertices_));
   inertia_.resize(3, num_vertices_);
   iterate_.resize(3, num_vertices_);
@@ -138,7 +143,7 @@ std::size_t ProjectiveDynamicsModel::memory_bytes() const {
          + bytes_of(constraint_forces_) + bytes_of_elements(quaternions_)
          + constraints_.memory_bytes() + bytes_of_elements(multiplier_holds_)
          + bytes_of_elements(deformations_) + bytes_of_elements(rotations_)
-         + bytes_of_elements(element_parts_) + bytes_of(inertia_) + bytes_of(iterate_)
+         + bytes_of_elements(element_parts_) + bytes_of(element_sums_) + bytes_of(inertia_) + bytes_of(iterate_)
          + bytes_of(previous_) + bytes_of(next_) + bytes_of(eliminated_gradients_) + bytes_of(rhs_) + bytes_of(solution_);
 }
 

@@ -19,6 +19,10 @@
 
 namespace softbench::projective_dynamics {
 
+/// As corotational_fem: loops over fewer elements stay on one thread, where an OpenMP barrier
+/// costs more than the split saves on a shared 2-core machine.
+constexpr int kParallelElements = 16384;
+
 /// The parameter table: reads scene blocks, echoes effective values, documents defaults.
 const ParamTable<ProjectiveDynamicsParams>& param_table();
 
@@ -93,7 +97,8 @@ class ProjectiveDynamicsModel final : public SoftBody {
   std::vector<const PositionConstraint*> multiplier_holds_;
   std::vector<Eigen::Matrix3d> deformations_;
   std::vector<Eigen::Matrix3d> rotations_;
-  std::vector<Matrix34d> element_parts_;  ///< per tet, its nodes' parts of the gradient
+  std::vector<Matrix34d> element_parts_;  ///< per tet, its nodes' parts (parallel local step)
+  Eigen::Matrix3Xd element_sums_;         ///< per vertex, the elements' parts of the gradient
   Eigen::Matrix3Xd inertia_;              ///< M (y / dt^2 + alpha x_n / dt), N
   Eigen::Matrix3Xd iterate_;              ///< x during the iterations
   Eigen::Matrix3Xd previous_;             ///< the iterate before (Chebyshev, the residual)

@@ -5,6 +5,8 @@
 #include "models/corotational_fem/polar_decomposition.h"
 #include "models/projective_dynamics/projective_dynamics_model.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -13,9 +15,6 @@
 namespace softbench::projective_dynamics {
 namespace {
 
-/// As corotational_fem: loops over fewer elements stay on one thread, where an OpenMP barrier
-/// costs more than the split saves on a shared 2-core machine.
-constexpr int kParallelElements = 16384;
 /// The rotation extraction's stopping size (rad); the iterations refine R further each step.
 constexpr double kRotationTolerance = 1e-6;
 
@@ -63,9 +62,14 @@ bool ProjectiveDynamicsModel::update_factor(double dt, int* factorizations) {
 void ProjectiveDynamicsModel::project_elements(const Eigen::Matrix3Xd& x) {
   constexpr int kBlock = 64;
   const int num_blocks = (num_elements_ + kBlock - 1) / kBlock;
-  const double shear_weight = 2.0 * lame_.mu;     // w_s / V
+  const double shear_weight = 2.0 * lame_.mu;       // w_s / V
   const double volume_weight = 3.0 * lame_.lambda;  // w_v / V
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
+  // One thread: each element's parts are added to its vertices as soon as they are made (in
+  // element order). More: made in parallel into per-element storage, then gathered per vertex
+  // in the same element order, so the sums, and the results, do not depend on the threads.
+  const bool parallel = !element_parts_.empty() && omp_get_max_threads() > 1;
+  element_sums_.setZero();
+#pragma omp parallel for schedule(static) if (parallel)
   for (int block = 0; block < num_blocks; ++block) {
     const int first = block * kBlock;
     const int last = std::min(num_elements_, first + kBlock);
@@ -88,24 +92,39 @@ void ProjectiveDynamicsModel::project_elements(const Eigen::Matrix3Xd& x) {
       const double c = (r.cwiseProduct(f).sum() - 3.0) / 3.0;
       const Eigen::Matrix3d gradient =
           elements_[e].volume * (shear_weight * (f - r) + (volume_weight * c) * r);
-      Matrix34d& parts = element_parts_[e];
+      Matrix34d parts;
       parts.rightCols<3>().noalias() = gradient * elements_[e].rest_inverse.transpose();
       parts.col(0) = -parts.rightCols<3>().rowwise().sum();
+      if (parallel) {
+        element_parts_[e] = parts;
+      } else {
+        for (int a = 0; a < 4; ++a) {
+          element_sums_.col(tets_(a, t)) += parts.col(a);
+        }
+      }
+    }
+  }
+  if (parallel) {
+#pragma omp parallel for schedule(static)
+    for (int v = 0; v < num_vertices_; ++v) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
+           k < vertex_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
+        const int incidence = vertex_incidences_[static_cast<std::size_t>(k)];
+        sum += element_parts_[static_cast<std::size_t>(incidence / 4)].col(incidence % 4);
+      }
+      element_sums_.col(v) = sum;
     }
   }
 }
 
 void ProjectiveDynamicsModel::assemble_rhs(const Eigen::Matrix3Xd& x) {
   // b - A x = -(the incremental potential's gradient) at x: inertia and damping, less the
-  // gathered element parts.
+  // elements' parts.
   for (int v = 0; v < num_vertices_; ++v) {
-    Eigen::Vector3d sum = inertia_.col(v) - (mass_coefficient_ * masses_(v)) * x.col(v);
-    for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
-         k < vertex_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
-      const int incidence = vertex_incidences_[static_cast<std::size_t>(k)];
-      sum -= element_parts_[static_cast<std::size_t>(incidence / 4)].col(incidence % 4);
-    }
-    rhs_.row(v) = sum.transpose();
+    rhs_.row(v) = (inertia_.col(v) - (mass_coefficient_ * masses_(v)) * x.col(v)
+                   - element_sums_.col(v))
+                      .transpose();
   }
   // Eliminated vertices: the move to their targets, and their columns' terms moved to the
   // right-hand side. Their own rows' values are kept: the holds' forces are read from them.
