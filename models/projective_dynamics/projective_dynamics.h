@@ -70,6 +70,12 @@ struct ProjectiveDynamicsParams {
   int rotation_iterations = 2;
 };
 
+namespace projective_dynamics {
+/// The local step runs on one thread below this many tets (as corotational_fem's element
+/// loops): there an OpenMP barrier costs more than the split saves on a shared 2-core machine.
+constexpr int kParallelElements = 16384;
+}  // namespace projective_dynamics
+
 /// The registry entry ("projective_dynamics") with the parameter table.
 ModelInfo projective_dynamics_info();
 

@@ -19,10 +19,6 @@
 
 namespace softbench::projective_dynamics {
 
-/// As corotational_fem: loops over fewer elements stay on one thread, where an OpenMP barrier
-/// costs more than the split saves on a shared 2-core machine.
-constexpr int kParallelElements = 16384;
-
 /// The parameter table: reads scene blocks, echoes effective values, documents defaults.
 const ParamTable<ProjectiveDynamicsParams>& param_table();
 

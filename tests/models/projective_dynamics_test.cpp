@@ -10,10 +10,12 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <iostream>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -203,6 +205,29 @@ TEST(ProjectiveDynamics, APenaltyHoldIsASpringAndAGraspRefactorisesOnce) {
     EXPECT_EQ(pd->positions().col(tip), anchor);
   }
   EXPECT_EQ(factorizations, 2);
+}
+
+TEST(ProjectiveDynamics, OneAndTwoThreadsGiveTheSameBitsWhereTheLocalStepRunsInParallel) {
+  // Above kParallelElements the element parts are made in parallel and gathered per vertex;
+  // below, added as they are made. Both sum each vertex's parts in element order.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(20, 15, 10, 0.2, 0.15, 0.1));
+  ASSERT_GT(mesh.num_tets(), projective_dynamics::kParallelElements);
+  const std::vector<PositionConstraint> clamp = pin_min_x_face(mesh);
+  const auto run = [&](int threads) {
+    omp_set_num_threads(threads);
+    auto pd = make_projective_dynamics(mesh, kMaterial, {});
+    for (int step = 0; step < 3; ++step) {
+      EXPECT_TRUE(pd->step(kDt, ramped_gravity(10 + step, clamp)).finite);
+    }
+    return std::make_pair(Eigen::Matrix3Xd(pd->positions()),
+                          Eigen::Matrix3Xd(pd->constraint_forces()));
+  };
+  const int threads = omp_get_max_threads();
+  const auto one = run(1);
+  const auto two = run(2);
+  omp_set_num_threads(threads);
+  EXPECT_EQ(one.first, two.first);
+  EXPECT_EQ(one.second, two.second);
 }
 
 }  // namespace
