@@ -6,6 +6,7 @@
 #include "geometry/mesh_validation.h"
 #include "scenes/shipped_data.h"
 
+#include <cmath>
 #include <map>
 
 namespace softbench::bench {
@@ -29,6 +30,20 @@ std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh) {
     }
   }
   return pins;
+}
+
+double sag_error(const TetMesh& mesh, SoftBody& approximate, SoftBody& converged, int steps) {
+  const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
+  StepInput input;
+  input.constraints = pins;
+  for (SoftBody* body : {&approximate, &converged}) {
+    for (int step = 0; step < steps; ++step) {
+      body->step(1.0 / 60.0, input);
+    }
+  }
+  const Eigen::Matrix3Xd& exact = converged.positions();
+  const double motion = std::sqrt((exact - mesh.rest_positions()).colwise().squaredNorm().mean());
+  return std::sqrt((approximate.positions() - exact).colwise().squaredNorm().mean()) / motion;
 }
 
 }  // namespace softbench::bench

@@ -20,6 +20,12 @@ const TetMesh& shipped_liver(const std::string& name);
 /// Exact pins on the vertices in the lowest 10% of the x extent: the benchmarks' fixed region.
 std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh);
 
+/// The accuracy beside a speed figure: two bodies on `mesh` (one in the settings timed, one
+/// converged, e.g. many more iterations) run `steps` steps of 1/60 s from rest, pinned as
+/// pin_lowest_tenth_in_x and sagging under gravity; the RMS distance between their positions
+/// over the converged body's RMS motion.
+double sag_error(const TetMesh& mesh, SoftBody& approximate, SoftBody& converged, int steps);
+
 /// Sums of a run's StepStats, and the counters every model benchmark reports from them.
 struct StepTotals {
   double iterations = 0.0;

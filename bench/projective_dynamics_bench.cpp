@@ -69,22 +69,12 @@ double error_vs_converged(const std::string& liver, const Variant& variant) {
     return found->second;
   }
   const TetMesh& mesh = bench::shipped_liver(liver);
-  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-  const StepInput input = liver_input(pins);
-  const int steps = bench::unless_smoke(kAccuracySteps, 2);
-  const auto run = [&](const nlohmann::json& params) {
-    const std::unique_ptr<SoftBody> body = make(mesh, "projective_dynamics", params);
-    for (int step = 0; step < steps; ++step) {
-      body->step(kDt, input);
-    }
-    return Eigen::Matrix3Xd(body->positions());
-  };
   nlohmann::json converged = variant.params;
   converged["iterations"] = 300;
-  const Eigen::Matrix3Xd exact = run(converged);
-  const Eigen::Matrix3Xd approximate = run(variant.params);
-  const double motion = std::sqrt((exact - mesh.rest_positions()).colwise().squaredNorm().mean());
-  const double error = std::sqrt((approximate - exact).colwise().squaredNorm().mean()) / motion;
+  const std::unique_ptr<SoftBody> exact = make(mesh, "projective_dynamics", converged);
+  const std::unique_ptr<SoftBody> approximate = make(mesh, "projective_dynamics", variant.params);
+  const double error =
+      bench::sag_error(mesh, *approximate, *exact, bench::unless_smoke(kAccuracySteps, 2));
   cache[key] = error;
   return error;
 }

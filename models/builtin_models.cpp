@@ -6,6 +6,7 @@
 #include "models/neo_hookean/neo_hookean.h"
 #include "models/projective_dynamics/projective_dynamics.h"
 #include "models/shape_matching/shape_matching.h"
+#include "models/xpbd/xpbd.h"
 #if SOFTBENCH_WITH_BULLET
 #include "models/bullet/bullet_soft_body.h"
 #endif
@@ -20,6 +21,7 @@ ModelRegistry make_builtin_registry() {
   registry.add(neo_hookean_info());
   registry.add(projective_dynamics_info());
   registry.add(shape_matching_info());
+  registry.add(xpbd_info());
 #if SOFTBENCH_WITH_BULLET
   registry.add(bullet_deformable_info());
   registry.add(bullet_softbody_info());
