@@ -185,6 +185,28 @@ TriMesh boundary_surface(const TetMesh& mesh, std::vector<int>* tet_vertex_of) {
   return surface;
 }
 
+VertexCorners vertex_corners(const Eigen::Matrix4Xi& tets, int num_vertices) {
+  VertexCorners result;
+  result.offsets.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
+  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
+    for (int a = 0; a < 4; ++a) {
+      ++result.offsets[static_cast<std::size_t>(tets(a, t)) + 1];
+    }
+  }
+  for (std::size_t v = 1; v < result.offsets.size(); ++v) {
+    result.offsets[v] += result.offsets[v - 1];
+  }
+  result.corners.resize(static_cast<std::size_t>(result.offsets.back()));
+  std::vector<int> fill(result.offsets.begin(), result.offsets.end() - 1);
+  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
+    for (int a = 0; a < 4; ++a) {
+      result.corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets(a, t))]++)] =
+          static_cast<int>(4 * t + a);
+    }
+  }
+  return result;
+}
+
 Eigen::Matrix2Xi unique_edges(const Eigen::Matrix4Xi& tets) {
   return unique_cell_edges<4>(tets);
 }

@@ -27,6 +27,15 @@ Eigen::Matrix2Xi unique_edges(const Eigen::Matrix3Xi& triangles);
 /// where the edge is absent, the column it would be inserted at.
 int edge_index(const Eigen::Matrix2Xi& edges, int i, int j);
 
+/// Per vertex, the tet corners at it (4 * tet + the local index 0..3), in tet order, as CSR:
+/// vertex v's are corners[offsets[v] .. offsets[v + 1]). A per-vertex gather of per-element
+/// terms walks them, and sums in the same order whatever thread does it.
+struct VertexCorners {
+  std::vector<int> offsets;  ///< #V + 1
+  std::vector<int> corners;
+};
+VertexCorners vertex_corners(const Eigen::Matrix4Xi& tets, int num_vertices);
+
 /// Edge-based topology of a triangle surface.
 struct SurfaceTopology {
   int boundary_edges = 0;        ///< edges used by one triangle (open surface)

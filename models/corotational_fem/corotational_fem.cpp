@@ -76,21 +76,9 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
   }
 
   // Vertex incidences, in element order.
-  std::vector<int> counts(static_cast<std::size_t>(num_vertices_), 0);
-  for (int t = 0; t < num_elements_; ++t) {
-    for (int a = 0; a < 4; ++a) {
-      ++counts[static_cast<std::size_t>(tets_(a, t))];
-    }
-  }
-  vertex_offsets_ = offsets_from_counts(counts);
-  vertex_incidences_.resize(static_cast<std::size_t>(vertex_offsets_.back()));
-  std::vector<int> fill(vertex_offsets_.begin(), vertex_offsets_.end() - 1);
-  for (int t = 0; t < num_elements_; ++t) {
-    for (int a = 0; a < 4; ++a) {
-      vertex_incidences_[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets_(a, t))]++)] =
-          4 * t + a;
-    }
-  }
+  VertexCorners incidences = vertex_corners(tets_, num_vertices_);
+  vertex_offsets_ = std::move(incidences.offsets);
+  vertex_incidences_ = std::move(incidences.corners);
 
   // Edge incidences, in element order; the edge's first (smaller) vertex's local index first.
   const Eigen::Matrix2Xi edges = unique_edges(tets_);
@@ -98,7 +86,7 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
       {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
   std::vector<int> element_edges(6 * num_elements);
   std::vector<int> element_codes(6 * num_elements);
-  counts.assign(static_cast<std::size_t>(edges.cols()), 0);
+  std::vector<int> counts(static_cast<std::size_t>(edges.cols()), 0);
   for (int t = 0; t < num_elements_; ++t) {
     for (std::size_t k = 0; k < kTetEdges.size(); ++k) {
       auto [a, b] = kTetEdges[k];
@@ -113,7 +101,7 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
   }
   edge_offsets_ = offsets_from_counts(counts);
   edge_incidences_.resize(static_cast<std::size_t>(edge_offsets_.back()));
-  fill.assign(edge_offsets_.begin(), edge_offsets_.end() - 1);
+  std::vector<int> fill(edge_offsets_.begin(), edge_offsets_.end() - 1);
   for (std::size_t k = 0; k < element_edges.size(); ++k) {
     edge_incidences_[static_cast<std::size_t>(fill[static_cast<std::size_t>(element_edges[k])]++)] =
         element_codes[k];

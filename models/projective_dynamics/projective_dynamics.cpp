@@ -4,12 +4,14 @@
 #include "models/projective_dynamics/projective_dynamics.h"
 
 #include "geometry/mesh_measures.h"
+#include "geometry/mesh_topology.h"
 #include "models/corotational_fem/polar_decomposition.h"
 #include "models/corotational_fem/tet_element.h"
 #include "models/memory_bytes.h"
 #include "models/projective_dynamics/projective_dynamics_model.h"
 
 #include <algorithm>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -34,7 +36,6 @@ ProjectiveDynamicsModel::ProjectiveDynamicsModel(const TetMesh& mesh,
   elements_.reserve(num_elements);
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve(16 * num_elements + static_cast<std::size_t>(num_vertices_));
-  std::vector<int> counts(static_cast<std::size_t>(num_vertices_), 0);
   for (int t = 0; t < num_elements_; ++t) {
     const TetRest rest = tet_rest(tet_positions(rest_positions_, tets_, t));
     elements_.push_back(rest);
@@ -42,7 +43,6 @@ ProjectiveDynamicsModel::ProjectiveDynamicsModel(const TetMesh& mesh,
     const double weight = rest.volume * (2.0 * lame_.mu + 3.0 * lame_.lambda);
     const Matrix34d gradients = shape_gradients(rest);
     for (int a = 0; a < 4; ++a) {
-      ++counts[static_cast<std::size_t>(tets_(a, t))];
       for (int b = 0; b < 4; ++b) {
         entries.emplace_back(tets_(a, t), tets_(b, t),
                              weight * gradients.col(a).dot(gradients.col(b)));
@@ -62,20 +62,10 @@ ProjectiveDynamicsModel::ProjectiveDynamicsModel(const TetMesh& mesh,
   factor_ = std::make_unique<CholmodFactor>(system_, /*supernodal=*/false,
                                             /*sparsest_ordering=*/true);
 
-  // Vertex incidences, in element order: the gather of b sums in a fixed order.
-  vertex_offsets_.assign(static_cast<std::size_t>(num_vertices_) + 1, 0);
-  for (int v = 0; v < num_vertices_; ++v) {
-    vertex_offsets_[static_cast<std::size_t>(v) + 1] =
-        vertex_offsets_[static_cast<std::size_t>(v)] + counts[static_cast<std::size_t>(v)];
-  }
-  vertex_incidences_.resize(static_cast<std::size_t>(vertex_offsets_.back()));
-  std::vector<int> fill(vertex_offsets_.begin(), vertex_offsets_.end() - 1);
-  for (int t = 0; t < num_elements_; ++t) {
-    for (int a = 0; a < 4; ++a) {
-      vertex_incidences_[static_cast<std::size_t>(
-          fill[static_cast<std::size_t>(tets_(a, t))]++)] = 4 * t + a;
-    }
-  }
+  // Vertex incidences, in element order: the parallel gather sums in a fixed order.
+  VertexCorners incidences = vertex_corners(tets_, num_vertices_);
+  vertex_offsets_ = std::move(incidences.offsets);
+  vertex_incidences_ = std::move(incidences.corners);
 
   quaternions_.resize(num_elements);
   deformations_.resize(num_elements);

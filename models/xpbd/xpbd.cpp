@@ -4,6 +4,7 @@
 #include "models/xpbd/xpbd.h"
 
 #include "geometry/mesh_measures.h"
+#include "geometry/mesh_topology.h"
 #include "models/linear_tet.h"
 #include "models/memory_bytes.h"
 #include "models/xpbd/xpbd_model.h"
@@ -14,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -83,7 +85,6 @@ XpbdModel::XpbdModel(const TetMesh& mesh, const Material& material, const XpbdPa
   const std::vector<int> order = sweep_order(tets, num_vertices_);
   tets_.resize(num_tets);
   rest_inverses_.resize(num_tets);
-  std::vector<int> counts(static_cast<std::size_t>(num_vertices_) + 1, 0);
   for (std::size_t t = 0; t < num_tets; ++t) {
     const int column = order[t];
     const TetRest rest = tet_rest(tet_positions(rest_positions_, tets, column));
@@ -96,20 +97,20 @@ XpbdModel::XpbdModel(const TetMesh& mesh, const Material& material, const XpbdPa
     rest_inverses_[t] = rest.rest_inverse;
     for (int a = 0; a < 4; ++a) {
       tets_[t].vertices[a] = tets(a, column);
-      ++counts[static_cast<std::size_t>(tets(a, column)) + 1];
     }
   }
-  vertex_offsets_.assign(counts.size(), 0);
-  for (std::size_t v = 1; v < counts.size(); ++v) {
-    vertex_offsets_[v] = vertex_offsets_[v - 1] + counts[v];
-  }
-  vertex_tets_.resize(static_cast<std::size_t>(vertex_offsets_.back()));
-  std::vector<int> fill(vertex_offsets_.begin(), vertex_offsets_.end() - 1);
+  // Per vertex the tets around it (in sweep order): what bind() marks as holding a vertex.
+  Eigen::Matrix4Xi sweep_tets(4, static_cast<Eigen::Index>(num_tets));
   for (std::size_t t = 0; t < num_tets; ++t) {
-    for (const int v : tets_[t].vertices) {
-      vertex_tets_[static_cast<std::size_t>(fill[static_cast<std::size_t>(v)]++)] =
-          static_cast<int>(t);
+    for (int a = 0; a < 4; ++a) {
+      sweep_tets(a, static_cast<Eigen::Index>(t)) = tets_[t].vertices[a];
     }
+  }
+  VertexCorners incidences = vertex_corners(sweep_tets, num_vertices_);
+  vertex_offsets_ = std::move(incidences.offsets);
+  vertex_tets_ = std::move(incidences.corners);
+  for (int& corner : vertex_tets_) {
+    corner /= 4;
   }
 
   paired_.assign(num_tets, 0);
