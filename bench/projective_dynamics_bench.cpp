@@ -7,7 +7,8 @@
 //   step's CPU time over its local/global iterations, the step's fixed work included: the
 //   figure the per-iteration goal is about), and error_vs_converged, the RMS distance after 60
 //   steps (1 s of sag) to the same run at 300 iterations a step, over the RMS sag (computed
-//   outside the timing): what the variant's speed costs in accuracy.
+//   outside the timing; not on liver_x16, where the converged run would take minutes): what the
+//   variant's speed costs in accuracy.
 // - BM_ProjectiveDynamicsStep/corotational_fem/<mesh>: the peer.
 //
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and quote medians;
@@ -109,7 +110,10 @@ void register_benchmarks() {
           ("BM_ProjectiveDynamicsStep/" + variant.label + "/" + liver).c_str(),
           [variant, liver](benchmark::State& state) {
             model_step(state, liver, "projective_dynamics", variant.params);
-            state.counters["error_vs_converged"] = error_vs_converged(liver, variant);
+            // On liver_x16 the converged run (300 iterations a step) would take minutes.
+            if (std::string(liver) != "liver_x16.msh") {
+              state.counters["error_vs_converged"] = error_vs_converged(liver, variant);
+            }
           })
           ->Unit(benchmark::kMillisecond);
     }
