@@ -10,6 +10,10 @@
 //   outside the timing; not on liver_x16, where the converged run would take minutes): what the
 //   variant's speed costs in accuracy.
 // - BM_ProjectiveDynamicsStep/corotational_fem/<mesh>: the peer.
+// - BM_ProjectiveDynamicsHolds/<pinned|contact|contact_refactorised>/liver.msh: what holds that
+//   change every step cost, by multipliers on the kept factor (contact) or by refactorising
+//   (contact_refactorised); holds_step() says how. mean_linear_solves less the 10 global
+//   solves are the multiplier columns solved for.
 //
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and quote medians;
 // the measured figures are in models/README.md.
@@ -20,10 +24,12 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -103,7 +109,69 @@ void model_step(benchmark::State& state,
       iterations, benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+enum class Holds { kPinned, kContact, kContactRefactorised };
+
+/// The liver pinned as in model_step, plus (but for kPinned) a contact patch that changes every
+/// step: 16 of the 24 highest free vertices, a window moving by one vertex a step, each held
+/// 1 mm below its rest height. kContact: held along the vertical only, not anchoring, the
+/// way the instrument contact holds (multipliers on the kept factor). kContactRefactorised: the
+/// same vertices held fully and anchoring, so they are eliminated from the factor, which is
+/// redone each time the set changes: the alternative, timed.
+void holds_step(benchmark::State& state, Holds holds) {
+  omp_set_num_threads(1);
+  const TetMesh& mesh = bench::shipped_liver("liver.msh");
+  const std::unique_ptr<SoftBody> body = make(mesh, "projective_dynamics", nullptr);
+  const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
+  std::vector<char> pinned(static_cast<std::size_t>(mesh.num_vertices()), 0);
+  for (const PositionConstraint& pin : pins) {
+    pinned[static_cast<std::size_t>(pin.vertex)] = 1;
+  }
+  std::vector<int> highest;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (pinned[static_cast<std::size_t>(v)] == 0) {
+      highest.push_back(v);
+    }
+  }
+  const Eigen::Matrix3Xd& rest = mesh.rest_positions();
+  std::partial_sort(highest.begin(), highest.begin() + 24, highest.end(),
+                    [&](int a, int b) { return rest(2, a) > rest(2, b); });
+  highest.resize(24);
+  std::vector<PositionConstraint> constraints;
+  int step_count = 0;
+  const auto input = [&] {
+    constraints = pins;
+    if (holds != Holds::kPinned) {
+      const int first = step_count % 8;
+      for (int k = first; k < first + 16; ++k) {
+        const int v = highest[static_cast<std::size_t>(k)];
+        const Eigen::Vector3d target = rest.col(v) - Eigen::Vector3d(0.0, 0.0, 1e-3);
+        if (holds == Holds::kContact) {
+          constraints.push_back({v, target, kExact,
+                                 PositionConstraint::along(Eigen::Vector3d::UnitZ()),
+                                 /*anchors=*/false});
+        } else {
+          constraints.push_back({v, target, kExact});
+        }
+      }
+    }
+    ++step_count;
+    return liver_input(constraints);
+  };
+  const auto step = [&] { return body->step(kDt, input()); };
+  if (!bench::time_steps(state, kWarmUpSteps, kStepsPerBatch, step, step)) {
+    return;
+  }
+}
+
 void register_benchmarks() {
+  for (const auto& [label, holds] : {std::pair{"pinned", Holds::kPinned},
+                                     std::pair{"contact", Holds::kContact},
+                                     std::pair{"contact_refactorised", Holds::kContactRefactorised}}) {
+    benchmark::RegisterBenchmark(
+        (std::string("BM_ProjectiveDynamicsHolds/") + label + "/liver.msh").c_str(),
+        [holds](benchmark::State& state) { holds_step(state, holds); })
+        ->Unit(benchmark::kMillisecond);
+  }
   for (const char* liver : kLivers) {
     for (const Variant& variant : variants()) {
       benchmark::RegisterBenchmark(
