@@ -134,7 +134,7 @@ std::size_t ProjectiveDynamicsModel::memory_bytes() const {
          + constraints_.memory_bytes() + bytes_of_elements(multiplier_holds_)
          + bytes_of_elements(deformations_) + bytes_of_elements(rotations_)
          + bytes_of_elements(element_parts_) + bytes_of(element_sums_) + bytes_of(inertia_) + bytes_of(iterate_)
-         + bytes_of(previous_) + bytes_of(next_) + bytes_of(eliminated_gradients_) + bytes_of(rhs_) + bytes_of(solution_);
+         + bytes_of(previous_) + bytes_of(next_) + bytes_of(eliminated_gradients_) + bytes_of(eliminated_targets_) + bytes_of(rhs_) + bytes_of(solution_);
 }
 
 }  // namespace projective_dynamics

@@ -100,6 +100,7 @@ class ProjectiveDynamicsModel final : public SoftBody {
   Eigen::Matrix3Xd previous_;             ///< the iterate before (Chebyshev, the residual)
   Eigen::Matrix3Xd next_;
   Eigen::Matrix3Xd eliminated_gradients_;  ///< the gradient at each eliminated vertex
+  Eigen::Matrix3Xd eliminated_targets_;    ///< the step's target of each eliminated vertex
   Eigen::MatrixX3d rhs_;                  ///< b, #V x 3
   Eigen::MatrixX3d solution_;
   double mass_coefficient_ = 0.0;         ///< 1/dt^2 + alpha/dt

@@ -131,7 +131,7 @@ void ProjectiveDynamicsModel::assemble_rhs(const Eigen::Matrix3Xd& x) {
   for (std::size_t k = 0; k < eliminated_list_.size(); ++k) {
     const int v = eliminated_list_[k];
     eliminated_gradients_.col(static_cast<Eigen::Index>(k)) = -rhs_.row(v).transpose();
-    rhs_.row(v) = (constraints_.of(v)->target - x.col(v)).transpose();
+    rhs_.row(v) = (eliminated_targets_.col(static_cast<Eigen::Index>(k)) - x.col(v)).transpose();
   }
   for (const int v : eliminated_list_) {
     const Eigen::Vector3d move = rhs_.row(v).transpose();
@@ -162,6 +162,12 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
     return stats;
   }
   stats.linear_solves += held_rows_.prepare(multiplier_holds_, *factor_);
+  eliminated_targets_.resize(3, static_cast<Eigen::Index>(eliminated_list_.size()));
+  for (std::size_t k = 0; k < eliminated_list_.size(); ++k) {
+    if (const PositionConstraint* hold = constraints_.of(eliminated_list_[k])) {
+      eliminated_targets_.col(static_cast<Eigen::Index>(k)) = hold->target;
+    }
+  }
 
   // The inertial prediction y, and the first iterate x_n + dt v_n: y less the loads'
   // displacement dt^2 a. Starting from y, a body at rest under gravity would start each step
@@ -181,7 +187,9 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
     iterate_.col(v) = positions_.col(v) + dt * velocities_.col(v);
   }
   for (const int v : constraints_.vertices()) {
-    iterate_.col(v) = constraints_.of(v)->place(iterate_.col(v));
+    if (const PositionConstraint* hold = constraints_.of(v)) {
+      iterate_.col(v) = hold->place(iterate_.col(v));
+    }
   }
 
   // Local/global iterations, Chebyshev-accelerated when asked.
@@ -203,8 +211,8 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
       // (linear) hold still holds.
       next_ = omega * (next_ - previous_) + previous_;
     }
-    for (const int v : eliminated_list_) {
-      next_.col(v) = constraints_.of(v)->target;
+    for (std::size_t k = 0; k < eliminated_list_.size(); ++k) {
+      next_.col(eliminated_list_[k]) = eliminated_targets_.col(static_cast<Eigen::Index>(k));
     }
     previous_.swap(iterate_);
     iterate_.swap(next_);
@@ -238,8 +246,9 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
 
   double constraint_error = 0.0;
   for (const int v : constraints_.exact_vertices()) {
-    constraint_error =
-        std::max(constraint_error, constraints_.of(v)->gap(iterate_.col(v)).norm());
+    if (const PositionConstraint* hold = constraints_.of(v)) {
+      constraint_error = std::max(constraint_error, hold->gap(iterate_.col(v)).norm());
+    }
   }
   stats.max_constraint_error = constraint_error;
   velocities_ = (iterate_ - positions_) / dt;
