@@ -32,10 +32,16 @@ std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh) {
   return pins;
 }
 
+StepInput liver_input(std::span<const PositionConstraint> pins) {
+  StepInput input;
+  input.gravity = {0.0, 0.0, -9.81};
+  input.constraints = pins;
+  return input;
+}
+
 double sag_error(const TetMesh& mesh, SoftBody& approximate, SoftBody& converged, int steps) {
   const std::vector<PositionConstraint> pins = pin_lowest_tenth_in_x(mesh);
-  StepInput input;
-  input.constraints = pins;
+  const StepInput input = liver_input(pins);
   for (SoftBody* body : {&approximate, &converged}) {
     for (int step = 0; step < steps; ++step) {
       body->step(1.0 / 60.0, input);

@@ -7,6 +7,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -19,6 +21,22 @@ const TetMesh& shipped_liver(const std::string& name);
 
 /// Exact pins on the vertices in the lowest 10% of the x extent: the benchmarks' fixed region.
 std::vector<PositionConstraint> pin_lowest_tenth_in_x(const TetMesh& mesh);
+
+/// The input every model benchmark steps the liver with: gravity (-9.81 m/s^2 along z) and
+/// `pins` (which must outlive it).
+StepInput liver_input(std::span<const PositionConstraint> pins);
+
+/// `compute()` (a double) the first time `key` is asked for in this process, the stored value
+/// after: an accuracy check beside a timing that repetitions should not redo.
+template <class Compute>
+double once(const std::string& key, Compute compute) {
+  static std::map<std::string, double> values;
+  auto found = values.find(key);
+  if (found == values.end()) {
+    found = values.emplace(key, compute()).first;
+  }
+  return found->second;
+}
 
 /// The accuracy beside a speed figure: two bodies on `mesh` (one in the settings timed, one
 /// converged, e.g. many more iterations) run `steps` steps of 1/60 s from rest, pinned as

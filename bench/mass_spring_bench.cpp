@@ -75,13 +75,6 @@ std::vector<Variant> variants() {
   return result;
 }
 
-StepInput liver_input(const std::vector<PositionConstraint>& pins) {
-  StepInput input;
-  input.gravity = {0.0, 0.0, -9.81};
-  input.constraints = pins;
-  return input;
-}
-
 /// Positions after kMatchSteps steps from rest, cached per parameter set.
 const Eigen::Matrix3Xd& positions_after_match_steps(const Params& params) {
   static std::map<std::string, Eigen::Matrix3Xd> cache;
@@ -91,7 +84,7 @@ const Eigen::Matrix3Xd& positions_after_match_steps(const Params& params) {
     const TetMesh& mesh = bench::shipped_liver(kLiver);
     MassSpringModel model(mesh, kLiverMaterial, params);
     const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-    const StepInput input = liver_input(pins);
+    const StepInput input = bench::liver_input(pins);
     for (int step = 0; step < bench::unless_smoke(kMatchSteps, 2); ++step) {
       model.step(kDt, input);
     }
@@ -105,7 +98,7 @@ void mass_spring_step(benchmark::State& state, const Variant& variant) {
   const TetMesh& mesh = bench::shipped_liver(kLiver);
   MassSpringModel model(mesh, kLiverMaterial, variant.params);
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-  const StepInput input = liver_input(pins);
+  const StepInput input = bench::liver_input(pins);
   PhaseTimes phases;
   if (!bench::time_steps(
           state, kWarmUpSteps, kStepsPerBatch, [&] { return model.step(kDt, input); },
@@ -137,7 +130,7 @@ void peer_step(benchmark::State& state, const std::string& model_name) {
           .create(mesh, kLiverMaterial, nullptr,
                   ParamSource{"mass_spring_bench", "/" + model_name});
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-  const StepInput input = liver_input(pins);
+  const StepInput input = bench::liver_input(pins);
   const auto step = [&] { return body->step(kDt, input); };
   bench::time_steps(state, kWarmUpSteps, kStepsPerBatch, step, step);
 }

@@ -26,7 +26,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -61,29 +60,18 @@ std::unique_ptr<SoftBody> make(const TetMesh& mesh,
                                            ParamSource{"projective_dynamics_bench", "/" + model});
 }
 
-StepInput liver_input(const std::vector<PositionConstraint>& pins) {
-  StepInput input;
-  input.constraints = pins;
-  return input;
-}
-
 /// The variant's positions after kAccuracySteps against the converged run's, relative to the
-/// converged run's RMS motion; cached per (mesh, variant): repetitions do not redo it.
+/// converged run's RMS motion (bench::sag_error), once per (mesh, variant).
 double error_vs_converged(const std::string& liver, const Variant& variant) {
-  static std::map<std::string, double> cache;
-  const std::string key = liver + "/" + variant.label;
-  if (const auto found = cache.find(key); found != cache.end()) {
-    return found->second;
-  }
-  const TetMesh& mesh = bench::shipped_liver(liver);
-  nlohmann::json converged = variant.params;
-  converged["iterations"] = 300;
-  const std::unique_ptr<SoftBody> exact = make(mesh, "projective_dynamics", converged);
-  const std::unique_ptr<SoftBody> approximate = make(mesh, "projective_dynamics", variant.params);
-  const double error =
-      bench::sag_error(mesh, *approximate, *exact, bench::unless_smoke(kAccuracySteps, 2));
-  cache[key] = error;
-  return error;
+  return bench::once(liver + "/" + variant.label, [&] {
+    const TetMesh& mesh = bench::shipped_liver(liver);
+    nlohmann::json converged = variant.params;
+    converged["iterations"] = 300;
+    const std::unique_ptr<SoftBody> exact = make(mesh, "projective_dynamics", converged);
+    const std::unique_ptr<SoftBody> approximate =
+        make(mesh, "projective_dynamics", variant.params);
+    return bench::sag_error(mesh, *approximate, *exact, bench::unless_smoke(kAccuracySteps, 2));
+  });
 }
 
 void model_step(benchmark::State& state,
@@ -94,7 +82,7 @@ void model_step(benchmark::State& state,
   const TetMesh& mesh = bench::shipped_liver(liver);
   const std::unique_ptr<SoftBody> body = make(mesh, model, params);
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-  const StepInput input = liver_input(pins);
+  const StepInput input = bench::liver_input(pins);
   double iterations = 0.0;
   const auto step = [&] { return body->step(kDt, input); };
   const auto timed = [&] {
@@ -155,7 +143,7 @@ void holds_step(benchmark::State& state, Holds holds) {
       }
     }
     ++step_count;
-    return liver_input(constraints);
+    return bench::liver_input(constraints);
   };
   const auto step = [&] { return body->step(kDt, input()); };
   if (!bench::time_steps(state, kWarmUpSteps, kStepsPerBatch, step, step)) {

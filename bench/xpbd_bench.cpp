@@ -26,7 +26,6 @@
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,8 +46,7 @@ void sweep_benchmark(benchmark::State& state, const std::string& liver) {
   const std::unique_ptr<SoftBody> body = make_xpbd(mesh, kLiverMaterial, params);
   auto& model = dynamic_cast<xpbd::XpbdModel&>(*body);
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-  StepInput input;
-  input.constraints = pins;
+  const StepInput input = bench::liver_input(pins);
   for (int step = 0; step < bench::unless_smoke(kWarmUpSteps, 1); ++step) {
     body->step(kDt, input);  // a deformed state: the sweep's corrections are not all zero
   }
@@ -72,21 +70,16 @@ void sweep_benchmark(benchmark::State& state, const std::string& liver) {
 /// After 60 steps (1 s of sag) against the same run at kConvergedSubsteps, relative to its RMS
 /// sag (outside the timing; cached, so repetitions do not redo it).
 double error_vs_converged(const std::string& liver, int substeps) {
-  static std::map<std::string, double> cache;
-  const std::string key = liver + "/" + std::to_string(substeps);
-  if (const auto found = cache.find(key); found != cache.end()) {
-    return found->second;
-  }
-  const TetMesh& mesh = bench::shipped_liver(liver);
-  XpbdParams params;
-  params.substeps = substeps;
-  XpbdParams converged;
-  converged.substeps = kConvergedSubsteps;
-  const std::unique_ptr<SoftBody> approximate = make_xpbd(mesh, kLiverMaterial, params);
-  const std::unique_ptr<SoftBody> exact = make_xpbd(mesh, kLiverMaterial, converged);
-  const double error = bench::sag_error(mesh, *approximate, *exact, bench::unless_smoke(60, 2));
-  cache[key] = error;
-  return error;
+  return bench::once(liver + "/" + std::to_string(substeps), [&] {
+    const TetMesh& mesh = bench::shipped_liver(liver);
+    XpbdParams params;
+    params.substeps = substeps;
+    XpbdParams converged;
+    converged.substeps = kConvergedSubsteps;
+    const std::unique_ptr<SoftBody> approximate = make_xpbd(mesh, kLiverMaterial, params);
+    const std::unique_ptr<SoftBody> exact = make_xpbd(mesh, kLiverMaterial, converged);
+    return bench::sag_error(mesh, *approximate, *exact, bench::unless_smoke(60, 2));
+  });
 }
 
 void step_benchmark(benchmark::State& state, const std::string& liver, int substeps) {
@@ -96,8 +89,7 @@ void step_benchmark(benchmark::State& state, const std::string& liver, int subst
   params.substeps = substeps;
   const std::unique_ptr<SoftBody> body = make_xpbd(mesh, kLiverMaterial, params);
   const std::vector<PositionConstraint> pins = bench::pin_lowest_tenth_in_x(mesh);
-  StepInput input;
-  input.constraints = pins;
+  const StepInput input = bench::liver_input(pins);
   for (int step = 0; step < bench::unless_smoke(kWarmUpSteps, 1); ++step) {
     body->step(kDt, input);
   }

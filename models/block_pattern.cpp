@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "models/block_pattern.h"
 
+#include "models/memory_bytes.h"
+
 #include <algorithm>
 
 namespace softbench {
@@ -182,9 +184,7 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
 }
 
 std::size_t BlockPattern::memory_bytes() const {
-  const auto nonzeros = static_cast<std::size_t>(matrix_.nonZeros());
-  return nonzeros * (sizeof(double) + sizeof(int))
-         + static_cast<std::size_t>(matrix_.outerSize() + 1) * sizeof(int)
+  return bytes_of_sparse(matrix_)
          + (neighbour_offsets_.size() + neighbours_.size() + mirror_slots_.size()) * sizeof(int)
          + vertex_blocks_.size() * sizeof(BlockEntries)
          + edge_blocks_.size() * 2 * sizeof(BlockEntries);

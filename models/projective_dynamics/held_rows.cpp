@@ -15,8 +15,7 @@ HeldRows::HeldRows(int num_vertices)
 void HeldRows::forget() {
   std::fill(slot_.begin(), slot_.end(), -1);
   slot_vertex_.clear();
-  slot_step_.clear();
-  columns_.resize(num_vertices_, 0);
+  slot_step_.clear();  // the storage stays: the next factor's columns go there
 }
 
 int HeldRows::prepare(std::span<const PositionConstraint* const> holds, CholmodFactor& factor) {
@@ -41,51 +40,47 @@ int HeldRows::prepare(std::span<const PositionConstraint* const> holds, CholmodF
         }
       }
     }
-    const int slot = column_of(vertex);
-    if (slot >= 0) {
+    // One hold per vertex (VertexConstraints): a vertex is missing at most once.
+    if (const int slot = column_of(vertex); slot >= 0) {
       slot_step_[static_cast<std::size_t>(slot)] = step_;
-    } else if (std::find(missing_.begin(), missing_.end(), vertex) == missing_.end()) {
+    } else {
       missing_.push_back(vertex);
     }
   }
 
-  // Keep the columns this step uses, and as many others as the bound allows (the most
-  // recently used first: a contact patch moves by a few vertices a step).
+  // Over the bound, keep only the columns this step uses (moved to the front, in order).
   const std::size_t bound = std::max<std::size_t>(kMinKeptColumns, 2 * holds.size());
   if (slot_vertex_.size() + missing_.size() > bound) {
-    std::vector<int> order(slot_vertex_.size());
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      order[k] = static_cast<int>(k);
-    }
-    std::stable_sort(order.begin(), order.end(), [this](int a, int b) {
-      return slot_step_[static_cast<std::size_t>(a)] > slot_step_[static_cast<std::size_t>(b)];
-    });
-    order.resize(bound > missing_.size() ? std::min(order.size(), bound - missing_.size()) : 0);
-    std::sort(order.begin(), order.end());
-    for (const int vertex : slot_vertex_) {
-      slot_[static_cast<std::size_t>(vertex)] = -1;
-    }
-    std::vector<int> kept_vertices;
-    std::vector<long> kept_steps;
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      const auto from = static_cast<std::size_t>(order[k]);
-      if (k != from) {
-        columns_.col(static_cast<Eigen::Index>(k)) = columns_.col(static_cast<Eigen::Index>(from));
+    std::size_t kept = 0;
+    for (std::size_t from = 0; from < slot_vertex_.size(); ++from) {
+      const auto vertex = static_cast<std::size_t>(slot_vertex_[from]);
+      if (slot_step_[from] != step_) {
+        slot_[vertex] = -1;
+        continue;
       }
-      kept_vertices.push_back(slot_vertex_[from]);
-      kept_steps.push_back(slot_step_[from]);
-      slot_[static_cast<std::size_t>(slot_vertex_[from])] = static_cast<int>(k);
+      if (kept != from) {
+        columns_.col(static_cast<Eigen::Index>(kept)) =
+            columns_.col(static_cast<Eigen::Index>(from));
+        slot_vertex_[kept] = slot_vertex_[from];
+        slot_step_[kept] = step_;
+      }
+      slot_[vertex] = static_cast<int>(kept++);
     }
-    slot_vertex_ = std::move(kept_vertices);
-    slot_step_ = std::move(kept_steps);
-    columns_.conservativeResize(num_vertices_, static_cast<Eigen::Index>(slot_vertex_.size()));
+    slot_vertex_.resize(kept);
+    slot_step_.resize(kept);
   }
 
-  // The missing columns, in one multi-column solve.
+  // The missing columns, in one multi-column solve, into storage that grows by doubling (up
+  // to the bound): a step that brings new vertices into contact rarely copies the kept ones.
   const auto missing = static_cast<Eigen::Index>(missing_.size());
   if (missing > 0) {
-    const Eigen::Index first = columns_.cols();
-    columns_.conservativeResize(num_vertices_, first + missing);
+    const auto first = static_cast<Eigen::Index>(slot_vertex_.size());
+    if (columns_.cols() < first + missing) {
+      // first + missing <= bound after the eviction above.
+      const auto capacity = std::min(static_cast<Eigen::Index>(bound),
+                                     std::max(first + missing, 2 * columns_.cols()));
+      columns_.conservativeResize(num_vertices_, capacity);
+    }
     unit_rhs_.setZero(num_vertices_, missing);
     for (Eigen::Index k = 0; k < missing; ++k) {
       const int vertex = missing_[static_cast<std::size_t>(k)];
@@ -106,8 +101,8 @@ int HeldRows::prepare(std::span<const PositionConstraint* const> holds, CholmodF
     const Row& column_row = rows_[static_cast<std::size_t>(r)];
     for (Eigen::Index q = r; q < size; ++q) {
       const Row& row = rows_[static_cast<std::size_t>(q)];
-      const double coupling = columns_(row.vertex, column_row.column);
-      const double value = coupling == 0.0 ? 0.0 : coupling * row.direction.dot(column_row.direction);
+      const double value =
+          columns_(row.vertex, column_row.column) * row.direction.dot(column_row.direction);
       system_(q, r) = value;
       system_(r, q) = value;
     }

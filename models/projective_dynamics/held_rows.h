@@ -24,7 +24,8 @@ namespace softbench::projective_dynamics {
 /// The columns z_v cost one solve each (several in one multi-column solve) and are kept while
 /// the factor lasts, so a contact that stays pays for its vertices once; the rows x rows system
 /// is rebuilt each step (its directions, a contact's normals, change). Memory: at most
-/// max(kMinKeptColumns, 2 x the step's held vertices) columns are kept.
+/// max(kMinKeptColumns, 2 x the step's held vertices) columns are kept; past that, only the
+/// step's own (a contact patch moves by a few vertices a step, so few are solved again).
 class HeldRows {
  public:
   explicit HeldRows(int num_vertices);
@@ -63,7 +64,7 @@ class HeldRows {
   std::vector<int> slot_;          ///< per vertex: its kept column, or -1
   std::vector<int> slot_vertex_;   ///< per kept column: its vertex
   std::vector<long> slot_step_;    ///< per kept column: the last step that used it
-  Eigen::MatrixXd columns_;        ///< #V x kept: z_v = A^-1 e_v
+  Eigen::MatrixXd columns_;        ///< #V x capacity; the first kept hold z_v = A^-1 e_v
   long step_ = 0;
   Eigen::MatrixXd system_;         ///< S + C
   Eigen::LLT<Eigen::MatrixXd> llt_;

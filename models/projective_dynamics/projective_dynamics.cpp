@@ -120,14 +120,10 @@ double ProjectiveDynamicsModel::elastic_energy() const {
 }
 
 std::size_t ProjectiveDynamicsModel::memory_bytes() const {
-  const auto sparse_bytes = [](const Eigen::SparseMatrix<double>& m) {
-    return static_cast<std::size_t>(m.nonZeros()) * (sizeof(double) + sizeof(int))
-           + static_cast<std::size_t>(m.outerSize() + 1) * sizeof(int);
-  };
   return bytes_of(tets_) + bytes_of(masses_) + bytes_of(rest_positions_)
          + bytes_of_elements(elements_) + bytes_of_elements(vertex_offsets_)
-         + bytes_of_elements(vertex_incidences_) + sparse_bytes(laplacian_)
-         + sparse_bytes(system_) + factor_->memory_bytes() + bytes_of_elements(eliminated_)
+         + bytes_of_elements(vertex_incidences_) + bytes_of_sparse(laplacian_)
+         + bytes_of_sparse(system_) + factor_->memory_bytes() + bytes_of_elements(eliminated_)
          + bytes_of_elements(eliminated_list_) + bytes_of_elements(wanted_)
          + held_rows_.memory_bytes() + bytes_of(positions_) + bytes_of(velocities_)
          + bytes_of(constraint_forces_) + bytes_of_elements(quaternions_)

@@ -180,11 +180,9 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
     if (input.external_forces != nullptr) {
       acceleration += input.external_forces->col(v) / masses_(v);
     }
-    const Eigen::Vector3d predicted =
-        positions_.col(v) + dt * velocities_.col(v) + (dt * dt) * acceleration;
-    inertia_.col(v) =
-        masses_(v) * (predicted / (dt * dt) + alpha_term * positions_.col(v));
     iterate_.col(v) = positions_.col(v) + dt * velocities_.col(v);
+    const Eigen::Vector3d predicted = iterate_.col(v) + (dt * dt) * acceleration;
+    inertia_.col(v) = masses_(v) * (predicted / (dt * dt) + alpha_term * positions_.col(v));
   }
   for (const int v : constraints_.vertices()) {
     if (const PositionConstraint* hold = constraints_.of(v)) {

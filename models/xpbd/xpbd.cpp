@@ -159,23 +159,28 @@ void XpbdModel::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix
   velocities_ = velocities;
 }
 
+Eigen::Matrix3d XpbdModel::deformation(std::size_t t) const {
+  const Tet& tet = tets_[t];
+  Eigen::Matrix3d edges;
+  for (int k = 0; k < 3; ++k) {
+    edges.col(k) = positions_.col(tet.vertices[k + 1]) - positions_.col(tet.vertices[0]);
+  }
+  return edges * rest_inverses_[t];
+}
+
 double XpbdModel::elastic_energy() const {
   double energy = 0.0;
   for (std::size_t t = 0; t < tets_.size(); ++t) {
-    const Tet& tet = tets_[t];
-    Eigen::Matrix3d edges;
-    for (int k = 0; k < 3; ++k) {
-      edges.col(k) = positions_.col(tet.vertices[k + 1]) - positions_.col(tet.vertices[0]);
-    }
-    energy += neo_hookean::energy_density(edges * rest_inverses_[t], law_) / tet.inverse_volume;
+    energy += neo_hookean::energy_density(deformation(t), law_) / tets_[t].inverse_volume;
   }
   return energy;
 }
 
 std::size_t XpbdModel::memory_bytes() const {
-  return bytes_of_elements(tets_) + bytes_of_elements(rest_inverses_) + bytes_of(masses_) + bytes_of(inverse_masses_)
-         + bytes_of(rest_positions_) + bytes_of_elements(vertex_offsets_)
-         + bytes_of_elements(vertex_tets_) + bytes_of_elements(paired_) + bytes_of(positions_) + bytes_of(velocities_)
+  return bytes_of_elements(tets_) + bytes_of_elements(rest_inverses_) + bytes_of(masses_)
+         + bytes_of(inverse_masses_) + bytes_of(rest_positions_)
+         + bytes_of_elements(vertex_offsets_) + bytes_of_elements(vertex_tets_)
+         + bytes_of_elements(paired_) + bytes_of(positions_) + bytes_of(velocities_)
          + bytes_of(constraint_forces_) + bytes_of_elements(multipliers_)
          + constraints_.memory_bytes() + bytes_of_elements(holds_) + bytes_of_elements(general_)
          + bytes_of_elements(mobility_) + bytes_of(starts_) + bytes_of(predictions_)

@@ -71,6 +71,8 @@ class XpbdModel final : public SoftBody {
   void project_pair(std::size_t t, double deviatoric_compliance, double hydrostatic_compliance);
   void bind(const StepInput& input);
   void unbind();
+  /// F of tet t (sweep order) at the current positions.
+  Eigen::Matrix3d deformation(std::size_t t) const;
   /// Where exact hold `vertex` is put in substep `s` of `n` (1-based), from `x`.
   Eigen::Vector3d place(int vertex, const Eigen::Vector3d& x, int s, int n) const;
 

@@ -313,14 +313,9 @@ double XpbdModel::residual() const {
   double worst = 0.0;
   for (std::size_t t = 0; t < tets_.size(); ++t) {
     const Tet& tet = tets_[t];
-    Eigen::Matrix3d edges;
-    for (int k = 0; k < 3; ++k) {
-      edges.col(k) = positions_.col(tet.vertices[k + 1]) - positions_.col(tet.vertices[0]);
-    }
-    const Eigen::Matrix3d f = edges * rest_inverses_[t];
+    const Eigen::Matrix3d f = deformation(t);
     const Eigen::Vector2d& lambda = multipliers_[t];
-    const double invariant = f.squaredNorm();
-    const double rd = std::abs(std::sqrt(invariant - std::log1p(invariant))
+    const double rd = std::abs(deviatoric(f.squaredNorm())
                                + tet.inverse_volume * deviatoric_compliance_ * lambda[0]);
     const double rh = std::abs(f.determinant() - law_.alpha
                                + tet.inverse_volume * hydrostatic_compliance_ * lambda[1]);
