@@ -113,6 +113,18 @@ XpbdModel::XpbdModel(const TetMesh& mesh, const Material& material, const XpbdPa
     corner /= 4;
   }
 
+  // The fastest rate at which the constraints' explicit part can grow (stability_rate_).
+  double stiffest = 0.0;
+  for (std::size_t t = 0; t < num_tets; ++t) {
+    const Eigen::Matrix3d& rest_inverse = rest_inverses_[t];
+    double sum = inverse_masses_[tets_[t].vertices[0]] * rest_inverse.colwise().sum().squaredNorm();
+    for (int a = 1; a < 4; ++a) {
+      sum += inverse_masses_[tets_[t].vertices[a]] * rest_inverse.row(a - 1).squaredNorm();
+    }
+    stiffest = std::max(stiffest, sum / tets_[t].inverse_volume);
+  }
+  stability_rate_ = std::sqrt(law_.mu * stiffest);
+
   paired_.assign(num_tets, 0);
   for (std::size_t t = 0; t + 1 < num_tets; ++t) {
     bool shared = false;
@@ -157,6 +169,17 @@ void XpbdModel::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix
   check_state(positions, velocities);
   positions_ = positions;
   velocities_ = velocities;
+}
+
+int XpbdModel::substeps_for(double dt) const {
+  if (!(params_.stability_ratio > 0.0)) {
+    return params_.substeps;
+  }
+  const double needed = std::ceil(dt * stability_rate_ / std::sqrt(params_.stability_ratio));
+  if (!(needed > params_.substeps)) {
+    return params_.substeps;  // also for a NaN dt, which the step then reports as not finite
+  }
+  return needed < kMaxSubsteps ? static_cast<int>(needed) : kMaxSubsteps;
 }
 
 Eigen::Matrix3d XpbdModel::deformation(std::size_t t) const {

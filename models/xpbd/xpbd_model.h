@@ -17,6 +17,9 @@
 
 namespace softbench::xpbd {
 
+/// The most substeps a step takes, however stiff the material (a bound on a step's work).
+inline constexpr int kMaxSubsteps = 100000;
+
 /// The parameter table: reads scene blocks, echoes effective values, documents defaults.
 const ParamTable<XpbdParams>& param_table();
 
@@ -49,6 +52,11 @@ class XpbdModel final : public SoftBody {
   /// The residual a step reports (xpbd.h), at the current positions and multipliers.
   double residual() const;
   int num_tets() const { return static_cast<int>(tets_.size()); }
+  /// The substeps a step of dt takes: `substeps`, or more where the material and the smallest
+  /// elements need them to stay stable (XpbdParams::stability_ratio).
+  int substeps_for(double dt) const;
+  /// sqrt(mu max_t V_t sum_a |grad N_a|^2 / m_a), 1/s: the rate of the stiffest tet's shear.
+  double stability_rate() const { return stability_rate_; }
 
  private:
   /// What the sweep reads of a tet (80 bytes): S = Dm^-1 Dm^-T (symmetric: S00, S11, S22, S01,
@@ -82,6 +90,7 @@ class XpbdModel final : public SoftBody {
 
   std::vector<Tet> tets_;
   std::vector<Eigen::Matrix3d> rest_inverses_;  ///< Dm^-1 per tet (energy, residual)
+  double stability_rate_ = 0.0;                 ///< stability_rate()
   Eigen::VectorXd masses_;
   Eigen::VectorXd inverse_masses_;
   Eigen::Matrix3Xd rest_positions_;

@@ -333,7 +333,7 @@ double XpbdModel::residual() const {
 StepStats XpbdModel::step(double dt, const StepInput& input) {
   StepStats stats;
   bind(input);
-  const int n = params_.substeps;
+  const int n = substeps_for(dt);
   const double h = dt / n;
   const double h2 = h * h;
   deviatoric_compliance_ = 1.0 / (law_.mu * h2);
