@@ -1,11 +1,13 @@
 # Fails when a folder includes a header from a folder above it in the layering of
-# docs/architecture.md (geometry; models and collision; scenes; harness), or when a library
+# docs/architecture.md (geometry; models, collision and render; scenes; harness), or when a library
 # folder includes TetGen (AGPL: only meshgen/ and the CLI may).
 set(forbidden
   "geometry:models/|collision/|scenes/|harness/|meshgen/|tetgen.h"
   "models:collision/|scenes/|harness/|meshgen/|tetgen.h"
   "collision:models/|scenes/|harness/|meshgen/|tetgen.h"
   "scenes:harness/|meshgen/|tetgen.h"
+  # The renderer draws meshes: geometry only, so the viewer and the commands share it.
+  "render:models/|collision/|scenes/|harness/|meshgen/|tetgen.h"
   # The fuzz targets drive the readers as the commands do, without the harness.
   "fuzz:harness/|meshgen/|tetgen.h"
   # Inside the harness: the run core depends on no other part; the parts built on it

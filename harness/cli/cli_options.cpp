@@ -45,23 +45,6 @@ scenes::Scene load_scene_with_mesh(const std::string& file, const std::string& m
   return scene;
 }
 
-std::string folder_name(const std::string& name) {
-  constexpr std::size_t kMaxLength = 100;  // well inside a file system's 255-byte name limit
-  std::string folder = name.substr(0, kMaxLength);
-  for (char& c : folder) {
-    const bool safe = std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '-'
-                      || c == '.';
-    if (!safe) {
-      c = '_';
-    }
-  }
-  // A leading dot would make "." or ".." (or a hidden folder).
-  for (std::size_t i = 0; i < folder.size() && folder[i] == '.'; ++i) {
-    folder[i] = '_';
-  }
-  return folder.empty() ? std::string("_") : folder;
-}
-
 std::filesystem::path out_dir_or(const std::string& given, const std::filesystem::path& fallback) {
   return given.empty() ? fallback : std::filesystem::path(given);
 }

@@ -2,6 +2,7 @@
 // Options several commands share, declared once so they read and behave the same everywhere.
 #pragma once
 
+#include "harness/format.h"
 #include "scenes/scene.h"
 
 #include <CLI/CLI.hpp>
@@ -27,10 +28,6 @@ void add_no_plots_flag(CLI::App& command, bool& no_plots, const std::string& wha
 
 /// The scene at `file`, its mesh replaced by `mesh` unless that is empty.
 scenes::Scene load_scene_with_mesh(const std::string& file, const std::string& mesh);
-/// `name` (a scene's, from its file) as one safe folder name under out/: every character
-/// outside [A-Za-z0-9_.-] becomes '_', as does a leading '.', and it is cut to 100 characters,
-/// so a name such as "../../x" cannot place the output outside out/ (scenes/README.md).
-std::string folder_name(const std::string& name);
 /// `given`, else `fallback`.
 std::filesystem::path out_dir_or(const std::string& given, const std::filesystem::path& fallback);
 /// Throws InputError "OPTION PATH: cannot write (why)" unless a file can be written at `path`

@@ -3,6 +3,7 @@
 #include "harness/cli/cli_options.h"
 #include "harness/cli/commands.h"
 #include "harness/compare/comparison.h"
+#include "harness/report/comparison_pictures.h"
 #include "harness/report/comparison_plots.h"
 #include "harness/report/comparison_report.h"
 #include "harness/report/staged_folder.h"
@@ -61,8 +62,10 @@ void compare(const CompareArguments& arguments) {
   options.matched = !arguments.thesis_only;
   // The folder lands whole (tables and plots) once everything is written, or not at all.
   StagedFolder out(out_dir_or(arguments.out_dir, "out/compare"), "--out");
-  const Comparison comparison = run_comparison(scenes, options);
-
+  Comparison comparison = run_comparison(scenes, options);
+  if (!arguments.no_plots) {
+    draw_comparison_pictures(out.path(), scenes, comparison, std::cerr);
+  }
   write_comparison(out.path(), comparison);
   PlotOutcome plots;
   if (!arguments.no_plots) {

@@ -339,6 +339,7 @@ MatchedScene run_matched(const scenes::Scene& scene,
     run_options.models = {row.model};
     run_options.warmup_steps = options.warmup_steps;
     run_options.snapshot_times = comparison_times(scene, settings.times);
+    run_options.picture_times = picture_times(scene);
     if (options.progress != nullptr) {
       *options.progress << scene.name << " / " << row.label << " (matched):\n";
     }
@@ -373,6 +374,7 @@ Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const Compar
       RunOptions run_options;
       run_options.models = {row.model};
       run_options.warmup_steps = options.warmup_steps;
+      run_options.picture_times = picture_times(scene);
       run_options.progress = options.progress;
       run_options.live_progress = options.live_progress;
       if (options.progress != nullptr) {

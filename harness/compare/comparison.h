@@ -83,6 +83,16 @@ struct MatchedScene {
   std::vector<std::string> notes;  ///< what could not be matched, and why
 };
 
+/// A picture file beside compare.md (harness/report/pictures.h): one table's runs of one scene,
+/// a row per run (the table's order), a column per time.
+struct ComparisonPicture {
+  std::string scene;
+  std::string table;             ///< "A" or "B"
+  std::string file;              ///< relative to compare.md
+  std::vector<double> times;     ///< s, the columns
+  std::vector<std::string> rows;  ///< run labels
+};
+
 struct Comparison {
   std::vector<SceneComparison> scenes;
   /// Table B, one per scene (empty when not asked for). The claims are judged on it when
@@ -93,6 +103,8 @@ struct Comparison {
   std::vector<Claim> claims;
   ClaimCriteria criteria;
   std::string machine;  ///< where ours were measured (CPU model), for the reader
+  /// The pictures written beside the report (the command draws them; not in compare.json).
+  std::vector<ComparisonPicture> pictures;
 };
 
 struct CompareOptions {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/comparison_report.h"
 
+#include "harness/report/comparison_pictures.h"
 #include "harness/report/report_files.h"
 #include "geometry/input_error.h"
 #include "harness/provenance.h"
@@ -365,6 +366,7 @@ std::string comparison_markdown(const Comparison& comparison) {
   for (const Claim& claim : comparison.claims) {
     out << claim_markdown(claim);
   }
+  pictures_markdown(out, comparison);
   return out.str();
 }
 

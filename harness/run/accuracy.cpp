@@ -31,6 +31,22 @@ std::vector<double> comparison_times(const scenes::Scene& scene, int count) {
   return times;
 }
 
+std::vector<double> picture_times(const scenes::Scene& scene) {
+  std::vector<double> times;
+  double release = scene.duration;
+  if (scene.instrument) {
+    release = std::min(release, scene.instrument->release);
+  }
+  if (scene.grasp) {
+    release = std::min(release, scene.grasp->release);
+  }
+  if (release < scene.duration) {
+    times.push_back(release);
+  }
+  times.push_back(scene.duration);
+  return times;
+}
+
 Accuracy accuracy_against(const std::vector<Snapshot>& snapshots,
                           double peak_tool_force,
                           const ReferenceRun& reference,

@@ -42,6 +42,10 @@ struct Accuracy {
 
 /// The compared times for `scene`: `count` evenly spaced in (0, duration].
 std::vector<double> comparison_times(const scenes::Scene& scene, int count);
+/// The instants a scene is drawn at (the thesis's figures): when its instrument or grasp lets
+/// go (the deepest press, the end of the pull), if within the scene, and its end (the
+/// recovery). Increasing.
+std::vector<double> picture_times(const scenes::Scene& scene);
 
 /// A run's `snapshots` (at the reference's times) and peak tool force against `reference`;
 /// `rest` is the rest shape. A run that blew up before a time is infinitely wrong there.

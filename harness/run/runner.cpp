@@ -166,6 +166,19 @@ void print_outcome(const RunOptions& options, const ModelRun& run) {
   *options.progress << "\n";
 }
 
+/// After a step ending at `end`: the body into `taken` at each of `times` (increasing) the step
+/// reached. Half a step of slack: a time that rounding puts just past a step's end is that step's.
+void capture(const std::vector<double>& times,
+             double end,
+             double dt,
+             const TetMesh& mesh,
+             const SoftBody& body,
+             std::vector<Snapshot>& taken) {
+  while (taken.size() < times.size() && end + 0.5 * dt > times[taken.size()]) {
+    taken.push_back({times[taken.size()], body.positions(), mesh_volume(mesh, body.positions())});
+  }
+}
+
 ModelRun run_model(const scenes::Scene& scene,
                    const SceneMesh& mesh,
                    const std::string& model_name,
@@ -216,12 +229,8 @@ ModelRun run_model(const scenes::Scene& scene,
     }
     stepper.observe(step, *body);
     recorder.state(*body, monitor.free_speed(), stepper, start + scene.dt);
-    // Half a step of slack: a time that rounding puts just past a step's end is that step's.
-    while (run.snapshots.size() < options.snapshot_times.size()
-           && start + 1.5 * scene.dt > options.snapshot_times[run.snapshots.size()]) {
-      run.snapshots.push_back({options.snapshot_times[run.snapshots.size()], body->positions(),
-                               mesh_volume(mesh.body, body->positions())});
-    }
+    capture(options.snapshot_times, start + scene.dt, scene.dt, mesh.body, *body, run.snapshots);
+    capture(options.picture_times, start + scene.dt, scene.dt, mesh.body, *body, run.pictures);
     if (options.frames_every > 0 && step % options.frames_every == 0) {
       write_frame(options, model_name, step, mesh.body, *body);
     }

@@ -28,6 +28,9 @@ struct RunOptions {
   /// s: scene times at which to keep the body's positions (ModelRun::snapshots), e.g. to compare
   /// against a reference run; each is taken at the end of the first step ending at or after it.
   std::vector<double> snapshot_times;
+  /// s, increasing: also captured, as snapshot_times are, into ModelRun::pictures (drawn by the
+  /// reports, compared with nothing; picture_times() gives a scene's).
+  std::vector<double> picture_times;
   /// On a stop asked for (Ctrl-C, SIGTERM): false, run_scene throws Interrupted and nothing of
   /// the unfinished run is kept; true, the model's run ends after the current step, is returned
   /// with TimingMetrics::interrupted set (its measures cover the steps run), and no further
@@ -148,6 +151,7 @@ struct ModelRun {
   /// steps (the block's largest tool force), spanning the whole run.
   std::vector<StepSample> samples;
   std::vector<Snapshot> snapshots;  ///< at RunOptions::snapshot_times reached before a blow-up
+  std::vector<Snapshot> pictures;   ///< at RunOptions::picture_times reached before a blow-up
 };
 
 /// Runs `scene` on `mesh` (read_scene_mesh(scene), or a variant of it) through each requested

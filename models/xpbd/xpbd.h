@@ -34,7 +34,8 @@ namespace softbench {
 // material does not change with `substeps` or `iterations`; they only set how closely the
 // implicit step is solved.
 //
-// Step (dt, split into n = `substeps` substeps of h = dt / n; Macklin 2019): per substep
+// Step (dt, split into n substeps of h = dt / n; Macklin 2019; n = `substeps`, or more where
+// the stiffest tet needs a shorter h to stay stable: XpbdParams::stability_ratio): per substep
 //   v <- v / (1 + h mass_damping)                       (an implicit drag)
 //   x~ = x + h v + h^2 (g + f_ext / m),  x <- x~, exact holds placed (below)
 //   `iterations` Gauss-Seidel sweeps over the tets (in a fixed order, below), lambda reset to

@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: MIT
+#include "harness/report/pictures.h"
+
+#include "scenes/instrument_path.h"
+
+#include <stdexcept>
+
+#if SOFTBENCH_WITH_RENDER
+#include "render/image.h"
+#include "render/offscreen_context.h"
+#include "render/surface_frame.h"
+#include "render/surface_renderer.h"
+#endif
+
+namespace softbench::harness {
+
+#if SOFTBENCH_WITH_RENDER
+
+bool pictures_available() { return true; }
+
+render::Camera pictures_camera(const SceneMesh& mesh,
+                               const std::vector<std::vector<Picture>>& rows,
+                               double aspect) {
+  // From the front (+y: anterior on the scenes' livers), above and to the right.
+  const Eigen::Vector3d direction(0.35, 0.9, 1.2);
+  Eigen::Vector3d lower = mesh.body.rest_positions().rowwise().minCoeff();
+  Eigen::Vector3d upper = mesh.body.rest_positions().rowwise().maxCoeff();
+  for (const std::vector<Picture>& row : rows) {
+    for (const Picture& picture : row) {
+      if (picture.positions.allFinite()) {
+        lower = lower.cwiseMin(picture.positions.rowwise().minCoeff());
+        upper = upper.cwiseMax(picture.positions.rowwise().maxCoeff());
+      }
+    }
+  }
+  return render::camera_on_box(lower, upper, direction, aspect, 0.9);
+}
+
+void write_pictures(const std::filesystem::path& path,
+                    const scenes::Scene& scene,
+                    const SceneMesh& mesh,
+                    const std::vector<std::vector<Picture>>& rows,
+                    int tile_width,
+                    int tile_height) {
+  constexpr int kSupersample = 2;
+  constexpr int kGap = 4;
+  std::size_t columns = 0;
+  for (const std::vector<Picture>& row : rows) {
+    columns = std::max(columns, row.size());
+  }
+  if (columns == 0) {
+    throw std::runtime_error(path.string() + ": no picture to draw");
+  }
+  const render::Camera camera =
+      pictures_camera(mesh, rows, static_cast<double>(tile_width) / tile_height);
+
+  render::OffscreenContext context(tile_width * kSupersample, tile_height * kSupersample);
+  render::SurfaceRenderer renderer;
+  const render::BodySurface surface(mesh.body);
+  const auto count = static_cast<int>(columns);
+  render::Image canvas(count * tile_width + (count - 1) * kGap,
+                       static_cast<int>(rows.size()) * tile_height
+                           + (static_cast<int>(rows.size()) - 1) * kGap);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    for (std::size_t c = 0; c < rows[r].size(); ++c) {
+      const Picture& picture = rows[r][c];
+      if (!picture.positions.allFinite()) {
+        continue;
+      }
+      render::SurfaceFrame frame;
+      surface.append(picture.positions, frame);
+      if (scene.instrument && mesh.instrument) {
+        render::append_instrument(*mesh.instrument,
+                                  scenes::instrument_pose(*scene.instrument, picture.time), frame);
+      }
+      renderer.draw(frame, camera, context.width(), context.height());
+      render::paste(render::downsample(context.read(), kSupersample),
+                    static_cast<int>(c) * (tile_width + kGap),
+                    static_cast<int>(r) * (tile_height + kGap), canvas);
+    }
+  }
+  render::write_png(path, canvas);
+}
+
+#else
+
+bool pictures_available() { return false; }
+
+void write_pictures(const std::filesystem::path&,
+                    const scenes::Scene&,
+                    const SceneMesh&,
+                    const std::vector<std::vector<Picture>>&,
+                    int,
+                    int) {
+  throw std::runtime_error("this build draws no pictures (configured without SOFTBENCH_WITH_RENDER)");
+}
+
+#endif
+
+}  // namespace softbench::harness

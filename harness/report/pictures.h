@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "harness/run/scene_mesh.h"
+#include "scenes/scene.h"
+
+#include <Eigen/Core>
+
+#if SOFTBENCH_WITH_RENDER
+#include "render/camera.h"
+#endif
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace softbench::harness {
+
+// Pictures of deformed bodies: what `softbench snapshot` writes and compare.md shows, drawn by
+// render/ offscreen (OSMesa), every picture of a scene seen by the same camera so that models
+// and instants compare at a glance. The tissue is drawn in its colour, the surface vertices of
+// inverted tets in yellow, the instrument in grey where the scene has it at that time.
+
+/// One picture: a body's vertices at a scene time (the tet mesh's order).
+struct Picture {
+  double time = 0.0;           ///< s, the scene time shown
+  Eigen::Matrix3Xd positions;  ///< 3 x #V, m
+};
+
+/// Whether this build draws pictures (render/ built: SOFTBENCH_WITH_RENDER).
+bool pictures_available();
+
+/// Draws `rows` (one row of pictures each, e.g. a model's instants) into one PNG at `path`
+/// (written atomically): tiles of `tile_width` x `tile_height` pixels, 2x supersampled, a
+/// 4-pixel gap; a missing picture (a run that blew up before that time) is left blank. The
+/// camera looks from the front, above and to the right of the scene's body, at the box holding
+/// the rest shape and every picture's vertices. Throws InputError naming the file when it cannot
+/// be written, std::runtime_error when this build or machine cannot draw.
+void write_pictures(const std::filesystem::path& path,
+                    const scenes::Scene& scene,
+                    const SceneMesh& mesh,
+                    const std::vector<std::vector<Picture>>& rows,
+                    int tile_width = 480,
+                    int tile_height = 360);
+
+#if SOFTBENCH_WITH_RENDER
+/// The camera write_pictures uses for `rows` of `mesh`'s body in tiles of aspect width / height.
+render::Camera pictures_camera(const SceneMesh& mesh,
+                               const std::vector<std::vector<Picture>>& rows,
+                               double aspect);
+#endif
+
+}  // namespace softbench::harness

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include "geometry/tet_mesh.h"
+#include "geometry/tri_mesh.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <vector>
+
+namespace softbench::render {
+
+/// What one picture draws: triangles with a position, a normal and a colour per vertex
+/// (interleaved, 9 floats a vertex: what SurfaceRenderer uploads as it is).
+struct SurfaceFrame {
+  static constexpr int kFloatsPerVertex = 9;
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+
+  int num_vertices() const { return static_cast<int>(vertices.size()) / kFloatsPerVertex; }
+  void add_vertex(const Eigen::Vector3d& position,
+                  const Eigen::Vector3d& normal,
+                  const Eigen::Vector3f& colour);
+};
+
+/// Tissue, a tet's corner where the tet is inverted, and the instrument (linear RGB).
+inline const Eigen::Vector3f kTissueColour(0.78F, 0.36F, 0.32F);
+inline const Eigen::Vector3f kInvertedColour(1.0F, 0.85F, 0.10F);
+inline const Eigen::Vector3f kInstrumentColour(0.62F, 0.66F, 0.72F);
+
+/// A tet mesh's boundary surface, drawn at any positions of its vertices.
+class BodySurface {
+ public:
+  explicit BodySurface(const TetMesh& mesh);
+
+  /// Appends the surface at `positions` (3 x #V of the tet mesh): smooth normals (the
+  /// area-weighted mean of the faces around a vertex, recomputed from these positions), and
+  /// kInvertedColour on every surface vertex of a tet whose signed volume is not positive (so
+  /// a picture shows where a model left the body inside out).
+  void append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const;
+
+  /// How many tets are inverted at `positions`.
+  int inverted_tets(const Eigen::Matrix3Xd& positions) const;
+
+ private:
+  bool inverted(const Eigen::Matrix3Xd& positions, Eigen::Index t) const;
+
+  Eigen::Matrix4Xi tets_;
+  Eigen::Matrix3Xi triangles_;         ///< outward, over surface_vertices_ indices
+  std::vector<int> surface_vertices_;  ///< tet-mesh index of each surface vertex
+  std::vector<int> surface_index_;     ///< per tet-mesh vertex: its surface index, or -1
+};
+
+/// Appends a rigid instrument at `pose` (mesh frame -> world), faceted: one normal per
+/// triangle, as a machined tool looks.
+void append_instrument(const TriMesh& instrument,
+                       const Eigen::Isometry3d& pose,
+                       SurfaceFrame& frame);
+
+}  // namespace softbench::render
