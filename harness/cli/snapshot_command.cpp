@@ -8,7 +8,6 @@
 #include "harness/run/runner.h"
 
 #include <algorithm>
-#include <cmath>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -18,6 +17,9 @@
 
 namespace softbench::harness {
 namespace {
+
+/// The most pixels one snapshot may hold (256 MB of RGBA): e.g. 16 tiles of 2048 x 2048.
+constexpr double kMaxPixels = 64.0 * 1024 * 1024;
 
 struct SnapshotArguments {
   std::string scene;
@@ -45,6 +47,13 @@ void snapshot(const SnapshotArguments& arguments) {
     }
   }
   std::sort(times.begin(), times.end());
+  // One picture holds every tile: bound its pixels before anything runs.
+  const double pixels = static_cast<double>(arguments.width) * arguments.height
+                        * static_cast<double>(times.size()) * static_cast<double>(arguments.models.size());
+  if (pixels > kMaxPixels) {
+    throw InputError("--width x --height x --at x --model: " + std::to_string(pixels)
+                     + " pixels, over the limit of " + std::to_string(kMaxPixels));
+  }
   const std::filesystem::path out =
       arguments.out.empty()
           ? std::filesystem::path("out") / (folder_name(scene.name) + "_snapshot.png")
@@ -60,16 +69,7 @@ void snapshot(const SnapshotArguments& arguments) {
   options.picture_times = times;
   options.progress = &std::cerr;
   options.live_progress = live_progress();
-  std::vector<std::vector<Picture>> rows;
-  for (const ModelRun& run : run_scene(scene, mesh, options)) {
-    std::vector<Picture>& row = rows.emplace_back();
-    for (std::size_t k = 0; k < times.size(); ++k) {
-      // A run that blew up before this time has no picture: the tile stays blank.
-      row.push_back(k < run.pictures.size()
-                        ? Picture{times[k], run.pictures[k].positions}
-                        : Picture{times[k], Eigen::Matrix3Xd::Constant(3, 1, std::nan(""))});
-    }
-  }
+  const std::vector<std::vector<Picture>> rows = picture_rows(run_scene(scene, mesh, options), times);
   write_pictures(out, scene, mesh, rows, arguments.width, arguments.height);
   std::cout << "wrote " << out.string() << ": rows";
   for (const std::string& model : arguments.models) {
@@ -99,10 +99,10 @@ void add_snapshot_command(CLI::App& app) {
                       "scene time to draw, s (repeatable; default: when the instrument or grasp "
                       "lets go, and the scene's end)");
   command->add_option("--out", arguments->out, "the PNG to write (default: out/<scene>_snapshot.png)");
-  command->add_option("--width", arguments->width, "tile width in pixels (default 480)")
-      ->check(CLI::Range(16, 4096));
-  command->add_option("--height", arguments->height, "tile height in pixels (default 360)")
-      ->check(CLI::Range(16, 4096));
+  command->add_option("--width", arguments->width, "tile width in pixels (default 480, at most 2048)")
+      ->check(CLI::Range(16, 2048));
+  command->add_option("--height", arguments->height, "tile height in pixels (default 360, at most 2048)")
+      ->check(CLI::Range(16, 2048));
   add_mesh_option(*command, arguments->mesh);
   command->callback([arguments] { snapshot(*arguments); });
 }

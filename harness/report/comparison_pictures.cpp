@@ -6,26 +6,10 @@
 #include "harness/run/accuracy.h"
 #include "harness/run/scene_mesh.h"
 
-#include <cmath>
 #include <stdexcept>
 
 namespace softbench::harness {
 namespace {
-
-/// One table's runs as picture rows (a run that blew up before a time: a blank tile).
-std::vector<std::vector<Picture>> picture_rows(const std::vector<ModelRun>& runs,
-                                               const std::vector<double>& times) {
-  std::vector<std::vector<Picture>> rows;
-  for (const ModelRun& run : runs) {
-    std::vector<Picture>& row = rows.emplace_back();
-    for (std::size_t k = 0; k < times.size(); ++k) {
-      row.push_back(k < run.pictures.size()
-                        ? Picture{times[k], run.pictures[k].positions}
-                        : Picture{times[k], Eigen::Matrix3Xd::Constant(3, 1, std::nan(""))});
-    }
-  }
-  return rows;
-}
 
 std::vector<std::string> labels(const std::vector<ModelRun>& runs) {
   std::vector<std::string> result;

@@ -3,6 +3,7 @@
 
 #include "scenes/instrument_path.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #if SOFTBENCH_WITH_RENDER
@@ -13,6 +14,20 @@
 #endif
 
 namespace softbench::harness {
+
+std::vector<std::vector<Picture>> picture_rows(const std::vector<ModelRun>& runs,
+                                               const std::vector<double>& times) {
+  std::vector<std::vector<Picture>> rows;
+  for (const ModelRun& run : runs) {
+    std::vector<Picture>& row = rows.emplace_back();
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      row.push_back(k < run.pictures.size()
+                        ? Picture{times[k], run.pictures[k].positions}
+                        : Picture{times[k], Eigen::Matrix3Xd::Constant(3, 1, std::nan(""))});
+    }
+  }
+  return rows;
+}
 
 #if SOFTBENCH_WITH_RENDER
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "harness/run/runner.h"
 #include "harness/run/scene_mesh.h"
 #include "scenes/scene.h"
 
@@ -26,6 +27,12 @@ struct Picture {
   double time = 0.0;           ///< s, the scene time shown
   Eigen::Matrix3Xd positions;  ///< 3 x #V, m
 };
+
+/// Runs as picture rows, a row per run and a picture per time of RunOptions::picture_times
+/// (`times`); a run that blew up before a time gets a picture of NaN positions there (a blank
+/// tile).
+std::vector<std::vector<Picture>> picture_rows(const std::vector<ModelRun>& runs,
+                                               const std::vector<double>& times);
 
 /// Whether this build draws pictures (render/ built: SOFTBENCH_WITH_RENDER).
 bool pictures_available();
