@@ -33,22 +33,15 @@ std::vector<std::vector<Picture>> picture_rows(const std::vector<ModelRun>& runs
 
 bool pictures_available() { return true; }
 
-render::Camera pictures_camera(const SceneMesh& mesh,
-                               const std::vector<std::vector<Picture>>& rows,
-                               double aspect) {
-  // From the front (+y: anterior on the scenes' livers), above and to the right.
+render::Camera pictures_camera(const SceneMesh& mesh, double aspect) {
+  // From the front (+y: anterior on the scenes' livers), above and to the right, at the rest
+  // shape with room around it for the loads' moves (the pull's 4 cm on the 15 cm liver). Not
+  // at the box of every picture: one model stretched into a spike half a metre long would
+  // shrink every other model's liver to a few pixels; a shape that wild may leave the frame.
   const Eigen::Vector3d direction(0.35, 0.9, 1.2);
-  Eigen::Vector3d lower = mesh.body.rest_positions().rowwise().minCoeff();
-  Eigen::Vector3d upper = mesh.body.rest_positions().rowwise().maxCoeff();
-  for (const std::vector<Picture>& row : rows) {
-    for (const Picture& picture : row) {
-      if (picture.positions.allFinite()) {
-        lower = lower.cwiseMin(picture.positions.rowwise().minCoeff());
-        upper = upper.cwiseMax(picture.positions.rowwise().maxCoeff());
-      }
-    }
-  }
-  return render::camera_on_box(lower, upper, direction, aspect, 0.9);
+  const Eigen::Vector3d lower = mesh.body.rest_positions().rowwise().minCoeff();
+  const Eigen::Vector3d upper = mesh.body.rest_positions().rowwise().maxCoeff();
+  return render::camera_on_box(lower, upper, direction, aspect, 1.2);
 }
 
 void write_pictures(const std::filesystem::path& path,
@@ -67,7 +60,7 @@ void write_pictures(const std::filesystem::path& path,
     throw std::runtime_error(path.string() + ": no picture to draw");
   }
   const render::Camera camera =
-      pictures_camera(mesh, rows, static_cast<double>(tile_width) / tile_height);
+      pictures_camera(mesh, static_cast<double>(tile_width) / tile_height);
 
   render::OffscreenContext context(tile_width * kSupersample, tile_height * kSupersample);
   render::SurfaceRenderer renderer;

@@ -40,8 +40,8 @@ bool pictures_available();
 /// Draws `rows` (one row of pictures each, e.g. a model's instants) into one PNG at `path`
 /// (written atomically): tiles of `tile_width` x `tile_height` pixels, 2x supersampled, a
 /// 4-pixel gap; a missing picture (a run that blew up before that time) is left blank. The
-/// camera looks from the front, above and to the right of the scene's body, at the box holding
-/// the rest shape and every picture's vertices. Throws InputError naming the file when it cannot
+/// camera looks from the front, above and to the right of the scene's body, at its rest shape
+/// with a margin (pictures_camera). Throws InputError naming the file when it cannot
 /// be written, std::runtime_error when this build or machine cannot draw.
 void write_pictures(const std::filesystem::path& path,
                     const scenes::Scene& scene,
@@ -51,10 +51,8 @@ void write_pictures(const std::filesystem::path& path,
                     int tile_height = 360);
 
 #if SOFTBENCH_WITH_RENDER
-/// The camera write_pictures uses for `rows` of `mesh`'s body in tiles of aspect width / height.
-render::Camera pictures_camera(const SceneMesh& mesh,
-                               const std::vector<std::vector<Picture>>& rows,
-                               double aspect);
+/// The camera write_pictures uses for `mesh`'s body in tiles of aspect width / height.
+render::Camera pictures_camera(const SceneMesh& mesh, double aspect);
 #endif
 
 }  // namespace softbench::harness

@@ -49,7 +49,7 @@ TEST(Pictures, TheLiverIsDrawnWhereItIsAndThePressChangesOnlyWhereTheProbeIs) {
 
   // The settled liver's tissue pixels span where its vertices project (within 2 pixels: the
   // silhouette's anti-aliased edge).
-  const render::Camera camera = pictures_camera(mesh, rows, static_cast<double>(kWidth) / kHeight);
+  const render::Camera camera = pictures_camera(mesh, static_cast<double>(kWidth) / kHeight);
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   for (int v = 0; v < mesh.body.num_vertices(); ++v) {
     const Eigen::Vector2d p = camera.pixel_of(rows[0][0].positions.col(v), kWidth, kHeight);
