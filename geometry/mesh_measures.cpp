@@ -98,6 +98,20 @@ double signed_tet_volume(const Eigen::Vector3d& x0,
   return (x1 - x0).dot((x2 - x0).cross(x3 - x0)) / 6.0;
 }
 
+bool is_inverted(const Eigen::Matrix4Xi& tets, Eigen::Index t, const Eigen::Matrix3Xd& positions) {
+  return signed_tet_volume(positions.col(tets(0, t)), positions.col(tets(1, t)),
+                           positions.col(tets(2, t)), positions.col(tets(3, t)))
+         <= 0.0;
+}
+
+int count_inverted_tets(const TetMesh& mesh, const Eigen::Matrix3Xd& positions) {
+  int inverted = 0;
+  for (Eigen::Index t = 0; t < mesh.tets().cols(); ++t) {
+    inverted += is_inverted(mesh.tets(), t, positions) ? 1 : 0;
+  }
+  return inverted;
+}
+
 double mesh_volume(const TetMesh& mesh) {
   return mesh_volume(mesh, mesh.rest_positions());
 }

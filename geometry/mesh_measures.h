@@ -14,6 +14,11 @@ double signed_tet_volume(const Eigen::Vector3d& x0,
                          const Eigen::Vector3d& x2,
                          const Eigen::Vector3d& x3);
 
+/// Whether tet t of `tets` has a signed volume <= 0 at `positions` (3 x #V): inverted or flat.
+bool is_inverted(const Eigen::Matrix4Xi& tets, Eigen::Index t, const Eigen::Matrix3Xd& positions);
+/// Tets whose signed volume at `positions` (3 x #V) is <= 0.
+int count_inverted_tets(const TetMesh& mesh, const Eigen::Matrix3Xd& positions);
+
 /// Volume of a tet mesh at `positions` (3 x #V; the rest positions if omitted), m^3.
 double mesh_volume(const TetMesh& mesh);
 double mesh_volume(const TetMesh& mesh, const Eigen::Matrix3Xd& positions);

@@ -15,52 +15,29 @@ void SurfaceFrame::add_vertex(const Eigen::Vector3d& position,
                                    colour.y(), colour.z()});
 }
 
-BodySurface::BodySurface(const TetMesh& mesh) : tets_(mesh.tets()) {
-  const Eigen::Matrix3Xi boundary = boundary_triangles(tets_);
+BodySurface::BodySurface(const TetMesh& mesh)
+    : tets_(mesh.tets()), surface_(boundary_surface(mesh, &surface_vertices_)) {
   surface_index_.assign(static_cast<std::size_t>(mesh.num_vertices()), -1);
-  triangles_.resize(3, boundary.cols());
-  for (Eigen::Index t = 0; t < boundary.cols(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      int& index = surface_index_[static_cast<std::size_t>(boundary(k, t))];
-      if (index < 0) {
-        index = static_cast<int>(surface_vertices_.size());
-        surface_vertices_.push_back(boundary(k, t));
-      }
-      triangles_(k, t) = index;
-    }
+  for (std::size_t i = 0; i < surface_vertices_.size(); ++i) {
+    surface_index_[static_cast<std::size_t>(surface_vertices_[i])] = static_cast<int>(i);
   }
-}
-
-bool BodySurface::inverted(const Eigen::Matrix3Xd& positions, Eigen::Index t) const {
-  const auto tet = tets_.col(t);
-  return !(signed_tet_volume(positions.col(tet(0)), positions.col(tet(1)), positions.col(tet(2)),
-                             positions.col(tet(3)))
-           > 0.0);
-}
-
-int BodySurface::inverted_tets(const Eigen::Matrix3Xd& positions) const {
-  int count = 0;
-  for (Eigen::Index t = 0; t < tets_.cols(); ++t) {
-    count += inverted(positions, t) ? 1 : 0;
-  }
-  return count;
 }
 
 void BodySurface::append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const {
   const auto count = static_cast<Eigen::Index>(surface_vertices_.size());
   Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, count);
-  for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
-    const Eigen::Vector3d a = positions.col(surface_vertices_[triangles_(0, t)]);
-    const Eigen::Vector3d b = positions.col(surface_vertices_[triangles_(1, t)]);
-    const Eigen::Vector3d c = positions.col(surface_vertices_[triangles_(2, t)]);
+  for (Eigen::Index t = 0; t < surface_.triangles.cols(); ++t) {
+    const Eigen::Vector3d a = positions.col(surface_vertices_[surface_.triangles(0, t)]);
+    const Eigen::Vector3d b = positions.col(surface_vertices_[surface_.triangles(1, t)]);
+    const Eigen::Vector3d c = positions.col(surface_vertices_[surface_.triangles(2, t)]);
     const Eigen::Vector3d area_normal = (b - a).cross(c - a);  // twice the area, outward
     for (int k = 0; k < 3; ++k) {
-      normals.col(triangles_(k, t)) += area_normal;
+      normals.col(surface_.triangles(k, t)) += area_normal;
     }
   }
   std::vector<std::uint8_t> marked(static_cast<std::size_t>(count), 0);
   for (Eigen::Index t = 0; t < tets_.cols(); ++t) {
-    if (!inverted(positions, t)) {
+    if (!is_inverted(tets_, t, positions)) {
       continue;
     }
     for (int k = 0; k < 4; ++k) {
@@ -79,9 +56,9 @@ void BodySurface::append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame)
                      marked[static_cast<std::size_t>(v)] != 0 ? kInvertedColour
                                                                 : kTissueColour);
   }
-  for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
+  for (Eigen::Index t = 0; t < surface_.triangles.cols(); ++t) {
     for (int k = 0; k < 3; ++k) {
-      frame.indices.push_back(first + static_cast<std::uint32_t>(triangles_(k, t)));
+      frame.indices.push_back(first + static_cast<std::uint32_t>(surface_.triangles(k, t)));
     }
   }
 }

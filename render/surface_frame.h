@@ -41,15 +41,10 @@ class BodySurface {
   /// a picture shows where a model left the body inside out).
   void append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const;
 
-  /// How many tets are inverted at `positions`.
-  int inverted_tets(const Eigen::Matrix3Xd& positions) const;
-
  private:
-  bool inverted(const Eigen::Matrix3Xd& positions, Eigen::Index t) const;
-
   Eigen::Matrix4Xi tets_;
-  Eigen::Matrix3Xi triangles_;         ///< outward, over surface_vertices_ indices
   std::vector<int> surface_vertices_;  ///< tet-mesh index of each surface vertex
+  TriMesh surface_;                    ///< its triangles, outward, over surface_vertices_
   std::vector<int> surface_index_;     ///< per tet-mesh vertex: its surface index, or -1
 };
 

@@ -47,18 +47,30 @@ void main() {
 }
 )";
 
+/// Throws the driver's log, after deleting `object`, when its compile or link `status` failed
+/// (shaders and programs have the same calls under different names).
+void check(GLuint object,
+           GLenum status,
+           void (*get)(GLuint, GLenum, GLint*),
+           void (*log_of)(GLuint, GLsizei, GLsizei*, GLchar*),
+           void (*remove)(GLuint),
+           const char* failure) {
+  GLint ok = 0;
+  get(object, status, &ok);
+  if (ok == 0) {
+    char log[1024] = {};
+    log_of(object, sizeof(log), nullptr, log);
+    remove(object);
+    throw std::runtime_error(std::string("SurfaceRenderer: ") + failure + ": " + log);
+  }
+}
+
 GLuint compile(GLenum type, const char* source) {
   const GLuint shader = glCreateShader(type);
   glShaderSource(shader, 1, &source, nullptr);
   glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (ok == 0) {
-    char log[1024] = {};
-    glGetShaderInfoLog(shader, sizeof(log), nullptr, log);
-    glDeleteShader(shader);
-    throw std::runtime_error(std::string("SurfaceRenderer: shader does not compile: ") + log);
-  }
+  check(shader, GL_COMPILE_STATUS, glGetShaderiv, glGetShaderInfoLog, glDeleteShader,
+        "shader does not compile");
   return shader;
 }
 
@@ -66,21 +78,21 @@ GLuint compile(GLenum type, const char* source) {
 
 SurfaceRenderer::SurfaceRenderer() {
   const GLuint vertex = compile(GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fragment = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  GLuint fragment = 0;
+  try {
+    fragment = compile(GL_FRAGMENT_SHADER, kFragmentShader);
+  } catch (const std::runtime_error&) {
+    glDeleteShader(vertex);
+    throw;
+  }
   program_ = glCreateProgram();
   glAttachShader(program_, vertex);
   glAttachShader(program_, fragment);
   glLinkProgram(program_);
   glDeleteShader(vertex);
   glDeleteShader(fragment);
-  GLint ok = 0;
-  glGetProgramiv(program_, GL_LINK_STATUS, &ok);
-  if (ok == 0) {
-    char log[1024] = {};
-    glGetProgramInfoLog(program_, sizeof(log), nullptr, log);
-    glDeleteProgram(program_);
-    throw std::runtime_error(std::string("SurfaceRenderer: program does not link: ") + log);
-  }
+  check(program_, GL_LINK_STATUS, glGetProgramiv, glGetProgramInfoLog, glDeleteProgram,
+        "program does not link");
   view_projection_location_ = glGetUniformLocation(program_, "view_projection");
   view_location_ = glGetUniformLocation(program_, "view");
 

@@ -69,8 +69,8 @@ void snapshot(const SnapshotArguments& arguments) {
   options.picture_times = times;
   options.progress = &std::cerr;
   options.live_progress = live_progress();
-  const std::vector<std::vector<Picture>> rows = picture_rows(run_scene(scene, mesh, options), times);
-  write_pictures(out, scene, mesh, rows, arguments.width, arguments.height);
+  write_pictures(out, scene, mesh, run_scene(scene, mesh, options), times.size(), arguments.width,
+                 arguments.height);
   std::cout << "wrote " << out.string() << ": rows";
   for (const std::string& model : arguments.models) {
     std::cout << " " << model;

@@ -35,7 +35,7 @@ void draw_comparison_pictures(const std::filesystem::path& out_dir,
       const std::vector<double> times = picture_times(scene);
       const auto draw = [&](const std::vector<ModelRun>& runs, const std::string& table) {
         const std::string file = "pictures_" + folder_name(scene.name) + "_" + table + ".png";
-        write_pictures(out_dir / file, scene, mesh, picture_rows(runs, times));
+        write_pictures(out_dir / file, scene, mesh, runs, times.size());
         comparison.pictures.push_back({scene.name, table, file, times, labels(runs)});
       };
       draw(comparison.scenes[i].runs, "A");

@@ -3,7 +3,7 @@
 
 #include "scenes/instrument_path.h"
 
-#include <cmath>
+#include <algorithm>
 #include <stdexcept>
 
 #if SOFTBENCH_WITH_RENDER
@@ -14,20 +14,6 @@
 #endif
 
 namespace softbench::harness {
-
-std::vector<std::vector<Picture>> picture_rows(const std::vector<ModelRun>& runs,
-                                               const std::vector<double>& times) {
-  std::vector<std::vector<Picture>> rows;
-  for (const ModelRun& run : runs) {
-    std::vector<Picture>& row = rows.emplace_back();
-    for (std::size_t k = 0; k < times.size(); ++k) {
-      row.push_back(k < run.pictures.size()
-                        ? Picture{times[k], run.pictures[k].positions}
-                        : Picture{times[k], Eigen::Matrix3Xd::Constant(3, 1, std::nan(""))});
-    }
-  }
-  return rows;
-}
 
 #if SOFTBENCH_WITH_RENDER
 
@@ -47,16 +33,13 @@ render::Camera pictures_camera(const SceneMesh& mesh, double aspect) {
 void write_pictures(const std::filesystem::path& path,
                     const scenes::Scene& scene,
                     const SceneMesh& mesh,
-                    const std::vector<std::vector<Picture>>& rows,
+                    const std::vector<ModelRun>& runs,
+                    std::size_t columns,
                     int tile_width,
                     int tile_height) {
   constexpr int kSupersample = 2;
   constexpr int kGap = 4;
-  std::size_t columns = 0;
-  for (const std::vector<Picture>& row : rows) {
-    columns = std::max(columns, row.size());
-  }
-  if (columns == 0) {
+  if (columns == 0 || runs.empty()) {
     throw std::runtime_error(path.string() + ": no picture to draw");
   }
   const render::Camera camera =
@@ -66,15 +49,12 @@ void write_pictures(const std::filesystem::path& path,
   render::SurfaceRenderer renderer;
   const render::BodySurface surface(mesh.body);
   const auto count = static_cast<int>(columns);
+  const auto count_rows = static_cast<int>(runs.size());
   render::Image canvas(count * tile_width + (count - 1) * kGap,
-                       static_cast<int>(rows.size()) * tile_height
-                           + (static_cast<int>(rows.size()) - 1) * kGap);
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    for (std::size_t c = 0; c < rows[r].size(); ++c) {
-      const Picture& picture = rows[r][c];
-      if (!picture.positions.allFinite()) {
-        continue;
-      }
+                       count_rows * tile_height + (count_rows - 1) * kGap);
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    for (std::size_t c = 0; c < std::min(columns, runs[r].pictures.size()); ++c) {
+      const Snapshot& picture = runs[r].pictures[c];
       render::SurfaceFrame frame;
       surface.append(picture.positions, frame);
       if (scene.instrument && mesh.instrument) {
@@ -97,7 +77,8 @@ bool pictures_available() { return false; }
 void write_pictures(const std::filesystem::path&,
                     const scenes::Scene&,
                     const SceneMesh&,
-                    const std::vector<std::vector<Picture>>&,
+                    const std::vector<ModelRun>&,
+                    std::size_t,
                     int,
                     int) {
   throw std::runtime_error("this build draws no pictures (configured without SOFTBENCH_WITH_RENDER)");

@@ -22,31 +22,21 @@ namespace softbench::harness {
 // and instants compare at a glance. The tissue is drawn in its colour, the surface vertices of
 // inverted tets in yellow, the instrument in grey where the scene has it at that time.
 
-/// One picture: a body's vertices at a scene time (the tet mesh's order).
-struct Picture {
-  double time = 0.0;           ///< s, the scene time shown
-  Eigen::Matrix3Xd positions;  ///< 3 x #V, m
-};
-
-/// Runs as picture rows, a row per run and a picture per time of RunOptions::picture_times
-/// (`times`); a run that blew up before a time gets a picture of NaN positions there (a blank
-/// tile).
-std::vector<std::vector<Picture>> picture_rows(const std::vector<ModelRun>& runs,
-                                               const std::vector<double>& times);
-
 /// Whether this build draws pictures (render/ built: SOFTBENCH_WITH_RENDER).
 bool pictures_available();
 
-/// Draws `rows` (one row of pictures each, e.g. a model's instants) into one PNG at `path`
-/// (written atomically): tiles of `tile_width` x `tile_height` pixels, 2x supersampled, a
-/// 4-pixel gap; a missing picture (a run that blew up before that time) is left blank. The
+/// Draws each run's ModelRun::pictures (taken at RunOptions::picture_times) as one row of
+/// `columns` tiles into one PNG at `path` (written atomically): tiles of `tile_width` x
+/// `tile_height` pixels, 2x supersampled, a 4-pixel gap; the tiles of the times a run did not
+/// reach (it blew up before) are left blank. The
 /// camera looks from the front, above and to the right of the scene's body, at its rest shape
 /// with a margin (pictures_camera). Throws InputError naming the file when it cannot
 /// be written, std::runtime_error when this build or machine cannot draw.
 void write_pictures(const std::filesystem::path& path,
                     const scenes::Scene& scene,
                     const SceneMesh& mesh,
-                    const std::vector<std::vector<Picture>>& rows,
+                    const std::vector<ModelRun>& runs,
+                    std::size_t columns,
                     int tile_width = 480,
                     int tile_height = 360);
 

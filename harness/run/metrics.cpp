@@ -20,17 +20,6 @@ Percentiles percentiles(std::vector<double> sample) {
   return {rank(0.5), rank(0.95), sample.back()};
 }
 
-int count_inverted_tets(const TetMesh& mesh, const Eigen::Matrix3Xd& positions) {
-  int inverted = 0;
-  const Eigen::Matrix4Xi& tets = mesh.tets();
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    inverted += signed_tet_volume(positions.col(tets(0, t)), positions.col(tets(1, t)),
-                                  positions.col(tets(2, t)), positions.col(tets(3, t)))
-                <= 0.0;
-  }
-  return inverted;
-}
-
 double rms_distance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) {
   if (a.cols() == 0) {
     return 0.0;

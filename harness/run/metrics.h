@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "geometry/mesh_measures.h"  // count_inverted_tets, which the metrics use
 #include "geometry/tet_mesh.h"
 
 #include <Eigen/Core>
@@ -20,8 +21,6 @@ struct Percentiles {
 /// Nearest-rank percentiles; zeros for an empty sample.
 Percentiles percentiles(std::vector<double> sample);
 
-/// Tets whose signed volume at `positions` (3 x #V) is <= 0.
-int count_inverted_tets(const TetMesh& mesh, const Eigen::Matrix3Xd& positions);
 
 /// RMS over vertices of |a_i - b_i| (3 x #V each), m.
 double rms_distance(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b);

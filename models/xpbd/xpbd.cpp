@@ -116,12 +116,13 @@ XpbdModel::XpbdModel(const TetMesh& mesh, const Material& material, const XpbdPa
   // The fastest rate at which the constraints' explicit part can grow (stability_rate_).
   double stiffest = 0.0;
   for (std::size_t t = 0; t < num_tets; ++t) {
-    const Eigen::Matrix3d& rest_inverse = rest_inverses_[t];
-    double sum = inverse_masses_[tets_[t].vertices[0]] * rest_inverse.colwise().sum().squaredNorm();
-    for (int a = 1; a < 4; ++a) {
-      sum += inverse_masses_[tets_[t].vertices[a]] * rest_inverse.row(a - 1).squaredNorm();
+    const double volume = 1.0 / tets_[t].inverse_volume;
+    const Matrix34d gradients = shape_gradients(TetRest{rest_inverses_[t], volume});
+    double sum = 0.0;
+    for (int a = 0; a < 4; ++a) {
+      sum += inverse_masses_[tets_[t].vertices[a]] * gradients.col(a).squaredNorm();
     }
-    stiffest = std::max(stiffest, sum / tets_[t].inverse_volume);
+    stiffest = std::max(stiffest, sum * volume);
   }
   stability_rate_ = std::sqrt(law_.mu * stiffest);
 

@@ -17,7 +17,8 @@
 
 namespace softbench::xpbd {
 
-/// The most substeps a step takes, however stiff the material (a bound on a step's work).
+/// The most substeps a step takes, however stiff the material (a bound on a step's work), and
+/// the `substeps` parameter's upper limit.
 inline constexpr int kMaxSubsteps = 100000;
 
 /// The parameter table: reads scene blocks, echoes effective values, documents defaults.

@@ -13,7 +13,7 @@ using Params = XpbdParams;
 ParamTable<Params> make_param_table() {
   ParamTable<Params> table;
   table
-      .integer("substeps", &Params::substeps, 1, 100000,
+      .integer("substeps", &Params::substeps, 1, kMaxSubsteps,
                "substeps per step at least (more where stability_ratio asks), one prediction and "
                "`iterations` sweeps each (Macklin et al. "
                "2019's small steps). More: closer to the implicit solution (the resting shape "

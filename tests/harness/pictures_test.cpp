@@ -37,11 +37,9 @@ TEST(Pictures, TheLiverIsDrawnWhereItIsAndThePressChangesOnlyWhereTheProbeIs) {
   const std::vector<ModelRun> runs = run_scene(scene, mesh, options);
   ASSERT_EQ(runs.size(), 1U);
   ASSERT_EQ(runs[0].pictures.size(), 2U);
-  const std::vector<std::vector<Picture>> rows = {
-      {{1.45, runs[0].pictures[0].positions}, {2.5, runs[0].pictures[1].positions}}};
   const std::filesystem::path path =
       std::filesystem::temp_directory_path() / "softbench_pictures_test.png";
-  write_pictures(path, scene, mesh, rows, kWidth, kHeight);
+  write_pictures(path, scene, mesh, runs, 2, kWidth, kHeight);
   const render::Image image = render::read_png(path);
   std::filesystem::remove(path);
   ASSERT_EQ(image.width, 2 * kWidth + 4);
@@ -52,7 +50,7 @@ TEST(Pictures, TheLiverIsDrawnWhereItIsAndThePressChangesOnlyWhereTheProbeIs) {
   const render::Camera camera = pictures_camera(mesh, static_cast<double>(kWidth) / kHeight);
   double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
   for (int v = 0; v < mesh.body.num_vertices(); ++v) {
-    const Eigen::Vector2d p = camera.pixel_of(rows[0][0].positions.col(v), kWidth, kHeight);
+    const Eigen::Vector2d p = camera.pixel_of(runs[0].pictures[0].positions.col(v), kWidth, kHeight);
     x0 = std::min(x0, p.x());
     x1 = std::max(x1, p.x());
     y0 = std::min(y0, p.y());

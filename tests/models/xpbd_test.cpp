@@ -57,19 +57,6 @@ std::vector<Eigen::Matrix3d> random_gradients(int count, unsigned seed) {
   return result;
 }
 
-int inverted_tets(const TetMesh& mesh, const Eigen::Matrix3Xd& positions) {
-  int count = 0;
-  for (int t = 0; t < mesh.num_tets(); ++t) {
-    const auto tet = mesh.tets().col(t);
-    if (signed_tet_volume(positions.col(tet(0)), positions.col(tet(1)), positions.col(tet(2)),
-                          positions.col(tet(3)))
-        <= 0.0) {
-      ++count;
-    }
-  }
-  return count;
-}
-
 // ---------------------------------------------------------------------------------------------
 // The constraints' energy
 
@@ -265,12 +252,12 @@ TEST(Xpbd, RecoversFromAMirroredStart) {
   auto body = make_xpbd(mesh, kMaterial, params);
   Eigen::Matrix3Xd mirrored = mesh.rest_positions();
   mirrored.row(2) = (0.08 - mirrored.row(2).array()).matrix();
-  ASSERT_EQ(inverted_tets(mesh, mirrored), mesh.num_tets());
+  ASSERT_EQ(count_inverted_tets(mesh, mirrored), mesh.num_tets());
   body->set_state(mirrored, Eigen::Matrix3Xd::Zero(3, mesh.num_vertices()));
   for (int step = 0; step < 120; ++step) {
     ASSERT_TRUE(body->step(kDt, no_gravity()).finite) << "step " << step;
   }
-  EXPECT_EQ(inverted_tets(mesh, body->positions()), 0);
+  EXPECT_EQ(count_inverted_tets(mesh, body->positions()), 0);
   // And back near its rest shape (up to a rigid motion): volume within 1%.
   EXPECT_NEAR(mesh_volume(mesh, body->positions()), mesh_volume(mesh), 0.01 * mesh_volume(mesh));
 }
@@ -315,7 +302,7 @@ TEST(Xpbd, FlattenedAndCollapsedTetsStayFinite) {
     for (int step = 0; step < 60; ++step) {
       ASSERT_TRUE(body->step(kDt, no_gravity()).finite) << "step " << step;
     }
-    EXPECT_EQ(inverted_tets(mesh, body->positions()), 0);
+    EXPECT_EQ(count_inverted_tets(mesh, body->positions()), 0);
   }
   // Collapsed to a point (F = 0: both gradients vanish, C_D's direction undefined): the step
   // must stay finite (nothing can push it apart, so it stays collapsed).

@@ -6,6 +6,7 @@
 #include "render/offscreen_context.h"
 #include "render/surface_frame.h"
 #include "render/surface_renderer.h"
+#include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
 #include "tests/test_meshes.h"
 
@@ -141,8 +142,8 @@ TEST(Render, InvertedTetsAreMarkedInTheirColour) {
   }
   ASSERT_GE(top, 0);
   positions(2, top) -= 0.03;
-  EXPECT_GT(BodySurface(box()).inverted_tets(positions), 0);
-  EXPECT_EQ(BodySurface(box()).inverted_tets(box().rest_positions()), 0);
+  EXPECT_GT(count_inverted_tets(box(), positions), 0);
+  EXPECT_EQ(count_inverted_tets(box(), box().rest_positions()), 0);
   const Image image = draw(positions);
   int marked = 0;
   for (int y = 0; y < kHeight; ++y) {
