@@ -7,12 +7,13 @@
 
 namespace softbench::render {
 
-/// An OpenGL 3.3 core context drawing into memory (OSMesa, Mesa's software renderer): pictures
-/// without a display or a GPU, the same on every machine that has Mesa. Current on the
+/// An OpenGL 3.3 core context drawing into a framebuffer of its own (EGL's surfaceless
+/// platform: Mesa's software renderer where there is no GPU): pictures without a display, the
+/// same on every machine that has Mesa. Current on the
 /// constructing thread from construction to destruction; one at a time per thread.
 class OffscreenContext {
  public:
-  /// Throws std::runtime_error when OSMesa cannot make a 3.3 core context of this size.
+  /// Throws std::runtime_error when EGL cannot make a 3.3 core context of this size.
   OffscreenContext(int width, int height);
   ~OffscreenContext();
   OffscreenContext(const OffscreenContext&) = delete;
@@ -24,10 +25,15 @@ class OffscreenContext {
   Image read() const;
 
  private:
+  void release();
   struct Impl;
   std::unique_ptr<Impl> impl_;
   int width_;
   int height_;
 };
+
+/// What the current context's bound framebuffer holds in (0, 0, width, height), after
+/// glFinish, rows from the top: a picture's pixels, or a window's screenshot.
+Image read_framebuffer(int width, int height);
 
 }  // namespace softbench::render

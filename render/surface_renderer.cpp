@@ -33,8 +33,13 @@ constexpr const char* kFragmentShader = R"(#version 330 core
 in vec3 eye_normal;
 in vec3 eye_position;
 in vec3 base;
+uniform vec4 wire;
 out vec4 result;
 void main() {
+  if (wire.a > 0.0) {
+    result = wire;
+    return;
+  }
   vec3 n = normalize(eye_normal);
   vec3 v = normalize(-eye_position);
   if (dot(n, v) < 0.0) n = -n;
@@ -95,6 +100,7 @@ SurfaceRenderer::SurfaceRenderer() {
         "program does not link");
   view_projection_location_ = glGetUniformLocation(program_, "view_projection");
   view_location_ = glGetUniformLocation(program_, "view");
+  wire_location_ = glGetUniformLocation(program_, "wire");
 
   glGenVertexArrays(1, &vertex_array_);
   glGenBuffers(1, &vertex_buffer_);
@@ -120,9 +126,21 @@ SurfaceRenderer::~SurfaceRenderer() {
 
 void SurfaceRenderer::draw(const SurfaceFrame& frame, const Camera& camera, int width,
                            int height) {
-  glViewport(0, 0, width, height);
-  glClearColor(kBackground, kBackground, kBackground, 1.0F);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  draw(frame, camera, Viewport{0, 0, width, height}, DrawOptions{});
+}
+
+void SurfaceRenderer::draw(const SurfaceFrame& frame,
+                           const Camera& camera,
+                           const Viewport& viewport,
+                           const DrawOptions& options) {
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  // The clear stays inside the viewport: two viewports share one window.
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(viewport.x, viewport.y, viewport.width, viewport.height);
+  if (options.clear) {
+    glClearColor(kBackground, kBackground, kBackground, 1.0F);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  }
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glUseProgram(program_);
@@ -136,10 +154,24 @@ void SurfaceRenderer::draw(const SurfaceFrame& frame, const Camera& camera, int 
   glBufferData(GL_ELEMENT_ARRAY_BUFFER,
                static_cast<GLsizeiptr>(frame.indices.size() * sizeof(std::uint32_t)),
                frame.indices.data(), GL_STREAM_DRAW);
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(frame.indices.size()), GL_UNSIGNED_INT,
-                 nullptr);
+  const auto count = static_cast<GLsizei>(frame.indices.size());
+  if (options.shaded) {
+    glUniform4f(wire_location_, 0.0F, 0.0F, 0.0F, 0.0F);
+    // Pushed back a little, so that edges drawn over the faces are not lost in them.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(1.0F, 1.0F);
+    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+  }
+  if (options.wireframe) {
+    glUniform4f(wire_location_, 0.15F, 0.12F, 0.12F, 1.0F);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  }
   glBindVertexArray(0);
   glUseProgram(0);
+  glDisable(GL_SCISSOR_TEST);
 }
 
 }  // namespace softbench::render

@@ -18,7 +18,7 @@
 namespace softbench::harness {
 
 // Pictures of deformed bodies: what `softbench snapshot` writes and compare.md shows, drawn by
-// render/ offscreen (OSMesa), every picture of a scene seen by the same camera so that models
+// render/ offscreen (EGL, surfaceless), every picture of a scene seen by the same camera so that models
 // and instants compare at a glance. The tissue is drawn in its colour, the surface vertices of
 // inverted tets in yellow, the instrument in grey where the scene has it at that time.
 
