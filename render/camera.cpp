@@ -22,6 +22,18 @@ Eigen::Vector2d Camera::pixel_of(const Eigen::Vector3d& p, int width, int height
   return {(x + 1.0) * 0.5 * width, (1.0 - y) * 0.5 * height};
 }
 
+Ray Camera::ray_through(const Eigen::Vector2d& pixel, int width, int height) const {
+  const Eigen::Matrix4d inverse = view_projection().cast<double>().inverse();
+  const double x = 2.0 * pixel.x() / width - 1.0;
+  const double y = 1.0 - 2.0 * pixel.y() / height;
+  const Eigen::Vector4d near = inverse * Eigen::Vector4d(x, y, -1.0, 1.0);
+  const Eigen::Vector4d far = inverse * Eigen::Vector4d(x, y, 1.0, 1.0);
+  Ray ray;
+  ray.origin = near.head<3>() / near.w();
+  ray.direction = (far.head<3>() / far.w() - ray.origin).normalized();
+  return ray;
+}
+
 Camera camera_on_box(const Eigen::Vector3d& lower,
                      const Eigen::Vector3d& upper,
                      const Eigen::Vector3d& direction,

@@ -5,6 +5,11 @@
 
 namespace softbench::render {
 
+struct Ray {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+};
+
 /// A perspective camera aimed at a box: what every picture of one scene shares, so that two
 /// models, or two instants, are seen from the same place at the same scale.
 struct Camera {
@@ -15,6 +20,9 @@ struct Camera {
   /// Where world point `p` lands in an image of `width` x `height` pixels (x right, y down, in
   /// pixels), the pixel convention of Image.
   Eigen::Vector2d pixel_of(const Eigen::Vector3d& p, int width, int height) const;
+  /// The ray from the eye through `pixel` (pixel_of's convention), direction of unit length:
+  /// what a click picks.
+  Ray ray_through(const Eigen::Vector2d& pixel, int width, int height) const;
 };
 
 /// Looks at the box [lower, upper] from `direction` (from the box's centre towards the eye; any

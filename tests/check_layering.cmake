@@ -1,28 +1,30 @@
 # Fails when a folder includes a header from a folder above it in the layering of
-# docs/architecture.md (geometry; models, collision and render; scenes; harness), or when a library
+# docs/architecture.md (geometry; models, collision and render; scenes; harness; viewer), or when a library
 # folder includes TetGen (AGPL: only meshgen/ and the CLI may).
 set(forbidden
-  "geometry:models/|collision/|scenes/|harness/|meshgen/|tetgen.h"
-  "models:collision/|scenes/|harness/|meshgen/|tetgen.h"
-  "collision:models/|scenes/|harness/|meshgen/|tetgen.h"
-  "scenes:harness/|meshgen/|tetgen.h"
+  "geometry:models/|collision/|scenes/|harness/|meshgen/|tetgen.h|viewer/"
+  "models:collision/|scenes/|harness/|meshgen/|tetgen.h|viewer/"
+  "collision:models/|scenes/|harness/|meshgen/|tetgen.h|viewer/"
+  "scenes:harness/|meshgen/|tetgen.h|viewer/"
   # The renderer draws meshes: geometry only, so the viewer and the commands share it.
-  "render:models/|collision/|scenes/|harness/|meshgen/|tetgen.h"
+  "render:models/|collision/|scenes/|harness/|meshgen/|tetgen.h|viewer/"
   # The fuzz targets drive the readers as the commands do, without the harness.
-  "fuzz:harness/|meshgen/|tetgen.h"
+  "fuzz:harness/|meshgen/|tetgen.h|viewer/"
   # Inside the harness: the run core depends on no other part; the parts built on it
   # (stability, sweep, compare, calibrate, soak) on none of each other, but compare on calibrate (its
   # table B is every model calibrated); verify on the run core and
   # stability (it reuses the torture runs) only; reports on no command; and nothing but the
   # command line itself includes the command line.
-  "harness/run:harness/soak/|harness/stability/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/stability:harness/soak/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/sweep:harness/soak/|harness/stability/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/compare:harness/soak/|harness/stability/|harness/sweep/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/calibrate:harness/soak/|harness/stability/|harness/sweep/|harness/compare/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/verify:harness/soak/|harness/sweep/|harness/compare/|harness/calibrate/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/soak:harness/stability/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h"
-  "harness/report:harness/cli/|meshgen/|tetgen.h")
+  "harness/run:harness/soak/|harness/stability/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/stability:harness/soak/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/sweep:harness/soak/|harness/stability/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/compare:harness/soak/|harness/stability/|harness/sweep/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/calibrate:harness/soak/|harness/stability/|harness/sweep/|harness/compare/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/verify:harness/soak/|harness/sweep/|harness/compare/|harness/calibrate/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/soak:harness/stability/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|harness/report/|harness/cli/|meshgen/|tetgen.h|viewer/"
+  "harness/report:harness/cli/|meshgen/|tetgen.h|viewer/"
+  # The viewer is built on the run core and the renderer; only the command line includes it.
+  "viewer:harness/cli/|harness/soak/|harness/stability/|harness/sweep/|harness/compare/|harness/calibrate/|harness/verify/|meshgen/|tetgen.h")
 # The files at the harness root are the vocabulary every part shares: they include no part.
 file(GLOB root_files "${SOURCE_DIR}/harness/*.h" "${SOURCE_DIR}/harness/*.cpp")
 set(failures "")

@@ -18,6 +18,7 @@ void add_calibrate_command(CLI::App& app);  ///< softbench calibrate
 void add_verify_command(CLI::App& app);     ///< softbench verify
 void add_soak_command(CLI::App& app);       ///< softbench soak
 void add_snapshot_command(CLI::App& app);   ///< softbench snapshot
+void add_view_command(CLI::App& app);       ///< softbench view
 void add_mesh_command(CLI::App& app);       ///< softbench mesh info (and liver, tetrahedralize)
 void add_mesh_generation_commands(CLI::App& mesh);  ///< softbench mesh liver, mesh tetrahedralize
 

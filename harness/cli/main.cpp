@@ -22,8 +22,8 @@ int main(int argc, char** argv) {
   using namespace softbench::harness;
   for (auto add : {add_run_command, add_compare_command, add_sweep_command, add_merge_command,
                    add_recommend_command, add_stability_command, add_calibrate_command,
-                   add_verify_command, add_soak_command, add_snapshot_command, add_models_command,
-                   add_mesh_command}) {
+                   add_verify_command, add_soak_command, add_snapshot_command, add_view_command,
+                   add_models_command, add_mesh_command}) {
     add(app);
   }
   install_interrupt_handlers();

@@ -19,15 +19,17 @@ namespace softbench::harness {
 
 bool pictures_available() { return true; }
 
-render::Camera pictures_camera(const SceneMesh& mesh, double aspect) {
-  // From the front (+y: anterior on the scenes' livers), above and to the right, at the rest
-  // shape with room around it for the loads' moves (the pull's 4 cm on the 15 cm liver). Not
-  // at the box of every picture: one model stretched into a spike half a metre long would
-  // shrink every other model's liver to a few pixels; a shape that wild may leave the frame.
-  const Eigen::Vector3d direction(0.35, 0.9, 1.2);
+render::Camera pictures_camera(const SceneMesh& mesh,
+                               double aspect,
+                               const Eigen::Vector3d& direction,
+                               double zoom) {
+  // At the rest shape with room around it for the loads' moves (the pull's 4 cm on the 15 cm
+  // liver). Not at the box of every picture: one model stretched into a spike half a metre long
+  // would shrink every other model's liver to a few pixels; a shape that wild may leave the
+  // frame.
   const Eigen::Vector3d lower = mesh.body.rest_positions().rowwise().minCoeff();
   const Eigen::Vector3d upper = mesh.body.rest_positions().rowwise().maxCoeff();
-  return render::camera_on_box(lower, upper, direction, aspect, 1.2);
+  return render::camera_on_box(lower, upper, direction, aspect, 1.2 * zoom);
 }
 
 void write_pictures(const std::filesystem::path& path,

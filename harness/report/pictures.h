@@ -41,8 +41,15 @@ void write_pictures(const std::filesystem::path& path,
                     int tile_height = 360);
 
 #if SOFTBENCH_WITH_RENDER
-/// The camera write_pictures uses for `mesh`'s body in tiles of aspect width / height.
-render::Camera pictures_camera(const SceneMesh& mesh, double aspect);
+/// Where write_pictures looks from (from the body's centre towards the eye): the front (+y:
+/// anterior on the scenes' livers), above and to the right.
+inline const Eigen::Vector3d kPicturesDirection(0.35, 0.9, 1.2);
+/// The camera write_pictures uses for `mesh`'s body in tiles of aspect width / height (the
+/// viewer's too, turned to `direction` and moved back by `zoom`).
+render::Camera pictures_camera(const SceneMesh& mesh,
+                               double aspect,
+                               const Eigen::Vector3d& direction = kPicturesDirection,
+                               double zoom = 1.0);
 #endif
 
 }  // namespace softbench::harness

@@ -177,3 +177,31 @@ TEST(Render, APngReadsBackAsWritten) {
 
 }  // namespace
 }  // namespace softbench::render
+
+namespace softbench::render {
+namespace {
+
+// A click picks the surface point under it: the ray through the pixel a point of the top face
+// lands on meets the surface at that point (within 1e-6 m, float matrices), on the top face
+// (normal +z), and the hit's weights give the point back from its triangle's corners.
+TEST(Render, AClickPicksTheSurfacePointUnderIt) {
+  const Camera camera = box_camera();
+  const BodySurface surface(box());
+  const Eigen::Vector3d on_top(0.031, 0.017, 0.04);
+  const Ray ray = camera.ray_through(camera.pixel_of(on_top, kWidth, kHeight), kWidth, kHeight);
+  const std::optional<SurfaceHit> hit = surface.pick(box().rest_positions(), ray);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_LT((hit->point - on_top).norm(), 1e-6);
+  EXPECT_GT(hit->normal.z(), 0.999);
+  Eigen::Vector3d from_weights = Eigen::Vector3d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    from_weights += hit->weights[k] * box().rest_positions().col(hit->vertices[static_cast<std::size_t>(k)]);
+  }
+  EXPECT_LT((from_weights - hit->point).norm(), 1e-9);
+  // A ray that passes beside the box picks nothing.
+  const Ray beside = camera.ray_through(Eigen::Vector2d(1.0, 1.0), kWidth, kHeight);
+  EXPECT_FALSE(surface.pick(box().rest_positions(), beside).has_value());
+}
+
+}  // namespace
+}  // namespace softbench::render
