@@ -35,4 +35,10 @@ std::string folder_name(const std::string& name) {
   return folder.empty() ? std::string("_") : folder;
 }
 
+std::string percent(double fraction) {
+  std::ostringstream out;
+  out << std::setprecision(3) << 100.0 * fraction << "%";
+  return out.str();
+}
+
 }  // namespace softbench::harness

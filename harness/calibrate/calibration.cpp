@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/calibrate/calibration.h"
 
+#include "harness/format.h"
 #include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
 #include "harness/provenance.h"
@@ -21,10 +22,6 @@ namespace {
 
 /// Bumped when what a calibration computes changes, so old caches are not read as new.
 constexpr int kCalibrationVersion = 2;
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 /// What of the scene the tissue's response depends on: not its name, script, duration or other
 /// models' blocks, so every scene of the same tissue, mesh and tool shares one calibration.

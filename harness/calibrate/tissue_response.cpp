@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/calibrate/tissue_response.h"
 
+#include "harness/format.h"
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
@@ -22,7 +23,6 @@
 namespace softbench::harness {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::unique_ptr<SoftBody> create(const scenes::Scene& scene,
                                  const TetMesh& mesh,

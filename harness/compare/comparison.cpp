@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/compare/comparison.h"
 
+#include "harness/format.h"
 #include "geometry/input_error.h"
 #include "harness/calibrate/calibration.h"
 #include "harness/provenance.h"
@@ -17,10 +18,9 @@
 namespace softbench::harness {
 namespace {
 
-std::string percent(double fraction) {
-  std::ostringstream out;
-  out << std::fixed << std::setprecision(2) << 100.0 * fraction << "%";
-  return out.str();
+/// The tables' percentages: two digits after the point, so a column lines up.
+std::string percent_2(double fraction) {
+  return fixed(100.0 * fraction, 2) + "%";
 }
 
 std::string seconds(double value) {
@@ -57,7 +57,7 @@ std::string recovery_evidence(const ModelRun& run) {
   if (!run.recovery.measured) {
     return "nothing released";
   }
-  return "residual " + percent(run.recovery.residual)
+  return "residual " + percent_2(run.recovery.residual)
          + (run.recovery.time_to_one_percent
                 ? " (below 1% " + seconds(*run.recovery.time_to_one_percent) + " after the release)"
                 : " (never below 1% for good)");
@@ -65,7 +65,7 @@ std::string recovery_evidence(const ModelRun& run) {
 
 std::string shape_evidence(const ModelRun& run) {
   return std::to_string(run.shape.max_inverted_tets) + " inverted tets, max volume change "
-         + percent(run.shape.volume_change);
+         + percent_2(run.shape.volume_change);
 }
 
 std::string join(const std::vector<std::string>& parts, const std::string& separator) {
@@ -85,7 +85,7 @@ Claim shape_matching_claim(const std::vector<SceneComparison>& scenes,
       "(thesis 3.5.2, Fig. 3.14).";
   check.criterion = "on every scene: stable, at most " + std::to_string(criteria.max_inverted_tets)
                     + " inverted tets at any step, and after the release an RMS residual below "
-                    + percent(kRecoveredResidual) + " of the rest bounding-box diagonal";
+                    + percent_2(kRecoveredResidual) + " of the rest bounding-box diagonal";
   std::vector<std::string> evidence;
   bool ran = false;
   bool any_release = false;
@@ -128,7 +128,7 @@ Claim mass_spring_claim(const std::vector<SceneComparison>& scenes) {
       "deformation (thesis 3.5.2, Fig. 3.15).";
   check.criterion = "observed when on some scene it diverges or ends its recovery with an RMS "
                     "residual of "
-                    + percent(kRecoveredResidual)
+                    + percent_2(kRecoveredResidual)
                     + " of the bounding-box diagonal or more; a possibility, so not observed is "
                       "no failure";
   std::vector<std::string> evidence;
@@ -170,11 +170,11 @@ Claim linear_fem_claim(const std::vector<SceneComparison>& scenes, const ClaimCr
       "(thesis 3.5.2), while corotational FEM, which factors out element rotations, is fit.";
   std::ostringstream criterion;
   criterion << "corotational_fem fit on every scene: stable, at most " << criteria.max_inverted_tets
-            << " inverted tets, recovered below " << percent(kRecoveredResidual)
+            << " inverted tets, recovered below " << percent_2(kRecoveredResidual)
             << " where released; corotational_fem(linear) unfit on at least one: diverged, more "
                "inverted tets than corotational, not recovered, or a volume change more than "
             << criteria.volume_ratio << "x corotational's and at least "
-            << percent(criteria.volume_margin) << " more";
+            << percent_2(criteria.volume_margin) << " more";
   check.criterion = criterion.str();
   std::vector<std::string> evidence;
   bool ran = false;

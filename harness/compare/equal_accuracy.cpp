@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/compare/equal_accuracy.h"
 
+#include "harness/format.h"
 #include "geometry/input_error.h"
 #include "harness/calibrate/calibration.h"
 #include "harness/run/runner.h"
@@ -12,7 +13,6 @@
 namespace softbench::harness {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 nlohmann::json finite_or_null(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/model_run_json.h"
 
+#include "harness/format.h"
+
 #include <cmath>
 #include <limits>
 
@@ -152,8 +154,6 @@ nlohmann::json to_json(const ModelRun& run) {
 }
 
 ModelRun model_run_from_json(const JsonReader& in) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   ModelRun run;
   run.model = in.string("model");
   run.params = in.raw("params");

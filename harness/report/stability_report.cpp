@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/report/stability_report.h"
 
+#include "harness/format.h"
 #include "harness/report/report_files.h"
 #include "harness/provenance.h"
 #include "harness/report/run_report.h"
@@ -46,12 +47,6 @@ std::vector<Warning> verdict_warnings(const RunVerdict& verdict) {
     }
   }
   return warnings;
-}
-
-std::string percent(double fraction) {
-  std::ostringstream out;
-  out << std::setprecision(3) << 100.0 * fraction << "%";
-  return out.str();
 }
 
 std::string map_cell_text(const MapRow& row) {

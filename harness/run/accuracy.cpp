@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run/accuracy.h"
 
+#include "harness/format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -51,7 +53,6 @@ Accuracy accuracy_against(const std::vector<Snapshot>& snapshots,
                           double peak_tool_force,
                           const ReferenceRun& reference,
                           const Eigen::Matrix3Xd& rest) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
   Accuracy accuracy;
   double rms_sum = 0.0;
   double diagonal_sum = 0.0;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/run/plausibility.h"
 
+#include "harness/format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -14,10 +16,6 @@ std::string g3(double value) {
   out.precision(3);
   out << value;
   return out.str();
-}
-
-std::string percent(double fraction) {
-  return g3(100.0 * fraction) + "%";
 }
 
 std::string millimetres(double metres) {

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "harness/stability/stability_run.h"
 
+#include "harness/format.h"
 #include "geometry/mesh_measures.h"
 #include "harness/run/metrics.h"
 #include "harness/run/run_monitor.h"
@@ -15,10 +16,6 @@ namespace softbench::harness {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point start) {
-  return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Watches one run step by step and writes its verdict: RunMonitor judges divergence; this adds
 // the settling, the inverted-tet counts and the wall-clock budget of the stability command.

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "harness/sweep/recommend.h"
 
+#include "harness/format.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -8,13 +10,6 @@
 
 namespace softbench::harness {
 namespace {
-
-std::string percent(double fraction) {
-  std::ostringstream out;
-  out.precision(3);
-  out << 100.0 * fraction << "%";
-  return out.str();
-}
 
 std::string describe(const SweepRecord& record) {
   std::ostringstream out;

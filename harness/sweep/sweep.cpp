@@ -21,7 +21,6 @@
 namespace softbench::harness {
 namespace {
 
-constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 std::vector<std::string> split(const std::string& text, char separator) {
   std::vector<std::string> parts;

@@ -28,7 +28,6 @@ using namespace verify_detail;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// Vertices on the box's faces (within a hair of its bounding box).
 std::vector<char> on_boundary(const Eigen::Matrix3Xd& rest) {

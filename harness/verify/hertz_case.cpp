@@ -26,7 +26,6 @@ using namespace verify_detail;
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// Coordinates from 0 to `extent`: `fine` spacing up to `fine_extent`, then cells growing by
 /// `growth` each; the last cell is merged into the one before when it would be less than half
