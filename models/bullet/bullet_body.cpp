@@ -2,6 +2,7 @@
 // The adapter core shared by both Bullet models: loading the mesh into a btSoftBody, mapping
 // constraints onto kinematic nodes and forces, copying the state back, reactions.
 #include "models/bullet/bullet_body.h"
+#include "models/bullet/bullet_vectors.h"
 
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
@@ -14,17 +15,6 @@
 #include <utility>
 
 namespace softbench::bullet {
-namespace {
-
-btVector3 to_bullet(const Eigen::Vector3d& v) {
-  return btVector3(v.x(), v.y(), v.z());
-}
-
-Eigen::Vector3d to_eigen(const btVector3& v) {
-  return Eigen::Vector3d(v.x(), v.y(), v.z());
-}
-
-}  // namespace
 
 BulletMesh BulletMesh::from(const TetMesh& mesh, double density) {
   return {mesh.rest_positions(), mesh.tets(), unique_edges(mesh.tets()),

@@ -2,6 +2,7 @@
 // The deformable world: btDeformableMultiBodyDynamicsWorld with one elastic force, gravity, and
 // the adapter's load force (external forces and penalty springs).
 #include "models/bullet/bullet_body.h"
+#include "models/bullet/bullet_vectors.h"
 #include "models/bullet/bullet_energy.h"
 #include "models/bullet/bullet_soft_body.h"
 
@@ -24,10 +25,6 @@ namespace {
 
 using Params = BulletDeformableParams;
 using TVStack = btAlignedObjectArray<btVector3>;
-
-btVector3 to_bullet(const Eigen::Vector3d& v) {
-  return btVector3(v.x(), v.y(), v.z());
-}
 
 /// Bullet's solver with its CG and Newton settings made settable (they are protected).
 class ConfigurableSolver final : public btDeformableBodySolver {
@@ -211,7 +208,7 @@ class DeformableWorld final : public BulletWorld {
     Eigen::Matrix3Xd result(3, body_->m_nodes.size());
     for (int i = 0; i < body_->m_nodes.size(); ++i) {
       const btVector3& f = forces[body_->m_nodes[i].index];
-      result.col(i) = Eigen::Vector3d(f.x(), f.y(), f.z());
+      result.col(i) = to_eigen(f);
     }
     return result;
   }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The legacy world: btSoftRigidDynamicsWorld with the position-based btSoftBody solver.
 #include "models/bullet/bullet_body.h"
+#include "models/bullet/bullet_vectors.h"
 #include "models/bullet/bullet_soft_body.h"
 
 #include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
@@ -16,10 +17,6 @@
 
 namespace softbench::bullet {
 namespace {
-
-btVector3 to_bullet(const Eigen::Vector3d& v) {
-  return btVector3(v.x(), v.y(), v.z());
-}
 
 class SoftBodyWorld final : public BulletWorld {
  public:
