@@ -61,6 +61,10 @@ function(softbench_add_test name)
     # tests/CMakeLists.txt): they compile with the same options, so a header per executable was
     # the same header built six times.
     target_precompile_headers(${name} REUSE_FROM softbench_test_pch)
+    # Batches of units compiled as one: each test unit spends much of its compile instantiating
+    # the same Eigen and GoogleTest templates, which a batch instantiates once. (So a test file's
+    # file-local names must not repeat another's of the same executable.)
+    set_target_properties(${name} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 8)
   endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR} DISCOVERY_TIMEOUT 60
                        PROPERTIES LABELS ${name})

@@ -7,12 +7,6 @@
 #include <numbers>
 
 namespace softbench::render {
-namespace {
-
-constexpr double kFieldOfView = 30.0 * std::numbers::pi / 180.0;  ///< vertical, rad
-
-}  // namespace
-
 Eigen::Vector2d Camera::pixel_of(const Eigen::Vector3d& p, int width, int height) const {
   const Eigen::Vector4f clip = view_projection() * Eigen::Vector4f(static_cast<float>(p.x()),
                                                                     static_cast<float>(p.y()),

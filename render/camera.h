@@ -3,7 +3,12 @@
 
 #include <Eigen/Core>
 
+#include <numbers>
+
 namespace softbench::render {
+
+/// The vertical field of view of camera_on_box's cameras, rad.
+inline constexpr double kFieldOfView = 30.0 * std::numbers::pi / 180.0;
 
 struct Ray {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();

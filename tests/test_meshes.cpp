@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "tests/test_meshes.h"
 
+#include "geometry/mesh_validation.h"
 #include "geometry/shape_meshes.h"
 
 #include <Eigen/Geometry>
@@ -102,6 +103,11 @@ std::filesystem::path TempDir::write(const std::string& name, const std::string&
     throw std::runtime_error("cannot write test file " + file.string());
   }
   return file;
+}
+
+const TetMesh& liver_like_box() {
+  static const TetMesh mesh = make_tet_mesh(box_tets(4, 3, 2, 0.2, 0.15, 0.1));
+  return mesh;
 }
 
 }  // namespace softbench::test

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geometry/mesh_data.h"
+#include "geometry/tet_mesh.h"
 
 #include <filesystem>
 #include <string>
@@ -17,6 +18,9 @@ MeshData cube_five_tets();
 /// A box [0,lx]x[0,ly]x[0,lz] of nx*ny*nz cubes, each split into 6 tets (Kuhn), conforming
 /// (geometry/shape_meshes.h builds it).
 MeshData box_tets(int nx, int ny, int nz, double lx = 1.0, double ly = 1.0, double lz = 1.0);
+
+/// A 20 x 15 x 10 cm box of 5 cm cells: a liver-sized test body (built once).
+const TetMesh& liver_like_box();
 /// The closed, outward-oriented surface of the unit cube: 8 vertices, 12 triangles.
 MeshData cube_surface();
 

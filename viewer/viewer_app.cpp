@@ -23,7 +23,6 @@
 #include <cmath>
 #include <deque>
 #include <memory>
-#include <numbers>
 #include <stdexcept>
 
 namespace softbench::viewer {
@@ -142,6 +141,8 @@ class App {
   std::vector<std::filesystem::path> screenshots_;  ///< taken at the end of this frame
   std::deque<Clock::time_point> recent_frames_;     ///< the last second's
   double frames_per_second_ = 0.0;
+  /// What the panel showed at each whole second of the run (the frame rate over the second).
+  std::vector<double> shown_rates_;
   double draw_ms_ = 0.0;
   long long frames_ = 0;
   /// The longest time a model was seen behind real time by more than 5% (s of wall time).
@@ -199,8 +200,7 @@ void App::mouse_down(const Eigen::Vector2d& pixel) {
   ++command_.press;
   press_y_ = pixel.y();
   // A pixel's size at the picked point's distance: dragging moves the tip with the mouse.
-  const double vertical_field = 30.0 * std::numbers::pi / 180.0;
-  metres_per_pixel_ = hit->distance * 2.0 * std::tan(0.5 * vertical_field)
+  metres_per_pixel_ = hit->distance * 2.0 * std::tan(0.5 * render::kFieldOfView)
                       / std::max(1, port.height) * scale;
   send();
 }
@@ -534,6 +534,9 @@ int App::run(GLFWwindow* window) {
         recent_frames_.size() < 2
             ? 0.0
             : (recent_frames_.size() - 1) / seconds_between(recent_frames_.front(), end);
+    if (seconds_between(opened, end) >= static_cast<double>(shown_rates_.size() + 1)) {
+      shown_rates_.push_back(frames_per_second_);
+    }
     // Sleep out the rest of the frame: the cores are the physics'.
     const double rest = kFramePeriod - seconds_between(begin, Clock::now());
     if (rest > 0.0) {
@@ -551,8 +554,14 @@ void App::write_report(double seconds) const {
   report["scene"] = scene_.name;
   report["seconds"] = seconds;
   report["frames"] = frames_;
-  // Over the whole run, the window's own first frame included.
+  // Over the whole run, the window's start-up included; and the rate the panel showed at each
+  // whole second (over the second before it), its median and its lowest.
   report["frames_per_second"] = seconds > 0.0 ? static_cast<double>(frames_) / seconds : 0.0;
+  std::vector<double> shown = shown_rates_;
+  std::sort(shown.begin(), shown.end());
+  report["frames_per_second_shown"] = shown_rates_;
+  report["frames_per_second_shown_median"] = shown.empty() ? 0.0 : shown[shown.size() / 2];
+  report["frames_per_second_shown_lowest"] = shown.empty() ? 0.0 : shown.front();
   report["window"] = {framebuffer_width_, framebuffer_height_};
   for (std::size_t i = 0; i < viewports_.size(); ++i) {
     const LiveFrame frame = viewports_[i].model->frame();

@@ -26,7 +26,7 @@ constexpr double kRoundoff = 1e-12;
 // Points closer than this to the surface are not classified by the references below.
 constexpr double kAmbiguous = 1e-9;
 
-std::vector<BvhSchedule> schedules() {
+std::vector<BvhSchedule> distance_schedules() {
   return {BvhSchedule::instrument(), BvhSchedule::liver(), BvhSchedule::all_sphere(),
           BvhSchedule::all_aabb(), BvhSchedule::layered(1, 1, 30, 1)};
 }
@@ -215,7 +215,7 @@ void expect_matches_references(const MeshDistance& distance,
 TEST(MeshDistance, NearestEqualsBruteForceAndInsideIsRightNearVerticesAndEdges) {
   std::mt19937 rng(23);
   for (const NamedMesh& named : closed_meshes()) {
-    for (const BvhSchedule& schedule : schedules()) {
+    for (const BvhSchedule& schedule : distance_schedules()) {
       const MeshDistance distance(named.mesh.vertices, named.mesh.triangles, schedule);
       expect_matches_references(distance, named.mesh, named.mesh.vertices, rng, named.name);
     }

@@ -24,7 +24,7 @@ const Peer kPeers[] = {{"moller", tri_tri_moller}, {"guigue_devillers", tri_tri_
 
 /// Segment ends of the peers come from the same edge interpolation as the projection method's:
 /// on generic random pairs (planes not within 1e-6 rad of parallel) within 1e-9 of the extent.
-constexpr double kSegmentRelativeTolerance = 1e-9;
+constexpr double kPeersSegmentRelativeTolerance = 1e-9;
 
 bool degenerate(const TriPair& p) {
   return exactly_degenerate(p.a[0], p.a[1], p.a[2]) || exactly_degenerate(p.b[0], p.b[1], p.b[2]);
@@ -70,7 +70,7 @@ TEST(TriTriPeers, SegmentsLieOnBothTrianglesForGenericPairs) {
         for (const auto* t : {&p.a, &p.b}) {
           const double distance =
               std::sqrt(squared_distance_to_triangle(*end, (*t)[0], (*t)[1], (*t)[2]));
-          failures += distance <= kSegmentRelativeTolerance ? 0 : 1;
+          failures += distance <= kPeersSegmentRelativeTolerance ? 0 : 1;
         }
       }
     }

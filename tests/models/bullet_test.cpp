@@ -27,7 +27,7 @@ using test::pin_min_x_face;
 using ::testing::HasSubstr;
 using DeformableParams = BulletDeformableParams;
 
-constexpr double kDt = 1.0 / 60.0;
+constexpr double kBulletDt = 1.0 / 60.0;
 /// Bullet's step moves a held node to its target by x += dt (target - x) / dt: round-off of the
 /// order of the coordinates' ulp, before the adapter writes the target itself.
 constexpr double kIntegrationRoundoff = 1e-15;
@@ -113,9 +113,9 @@ Sags clamped_bar_sags(const TetMesh& bar, const DeformableParams& bullet_params)
   const auto fem = builtin_models()
                        .at("corotational_fem")
                        .create(bar, material, {{"rayleigh_mass", 2.0}}, ParamSource{});
-  EXPECT_TRUE(run_to_rest(*fem, input, kDt, 1500)) << "corotational_fem";
+  EXPECT_TRUE(run_to_rest(*fem, input, kBulletDt, 1500)) << "corotational_fem";
   const auto bullet = make_bullet_deformable(bar, material, bullet_params);
-  EXPECT_TRUE(run_to_rest(*bullet, input, kDt, 1500)) << "bullet_deformable";
+  EXPECT_TRUE(run_to_rest(*bullet, input, kBulletDt, 1500)) << "bullet_deformable";
   return {-mean_z_displacement(*fem, bar, tip), -mean_z_displacement(*bullet, bar, tip)};
 }
 
@@ -164,7 +164,7 @@ TEST(Bullet, PinnedNodesNeverMoveInEitherModel) {
   input.constraints = pins;
   for (const auto& body : both_models(small_box(), kLiver)) {
     for (int step = 0; step < 30; ++step) {
-      const StepStats stats = body->step(kDt, input);
+      const StepStats stats = body->step(kBulletDt, input);
       ASSERT_TRUE(stats.finite) << body->name();
       EXPECT_EQ(stats.max_constraint_error, 0.0);
       EXPECT_LE(stats.residual, kIntegrationRoundoff) << body->name();  // Bullet's own drift
@@ -188,15 +188,15 @@ TEST(Bullet, MovingPinsCarryTheirNodesAndReleasedNodesFallAgain) {
     input.constraints = grasp;
     for (int step = 1; step <= 10; ++step) {
       grasp[0].target.z() = box.rest_positions()(2, corner) + 1e-3 * step;
-      ASSERT_TRUE(body->step(kDt, input).finite);
+      ASSERT_TRUE(body->step(kBulletDt, input).finite);
       ASSERT_EQ(body->positions().col(corner), grasp[0].target) << body->name();
-      EXPECT_NEAR(body->velocities()(2, corner), 1e-3 / kDt, 1e-12) << body->name();
+      EXPECT_NEAR(body->velocities()(2, corner), 1e-3 / kBulletDt, 1e-12) << body->name();
     }
     input.constraints = {};
     input.gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
     const double held_at = body->positions()(2, corner);
     for (int step = 0; step < 10; ++step) {
-      ASSERT_TRUE(body->step(kDt, input).finite);
+      ASSERT_TRUE(body->step(kBulletDt, input).finite);
     }
     // Its mass is back: gravity and the body's elasticity move it.
     EXPECT_LT(body->positions()(2, corner), held_at - 1e-3) << body->name();
@@ -237,7 +237,7 @@ TEST(Bullet, ReactionsBalanceTheWeightAtRest) {
   bodies.push_back(make_bullet_softbody(box, kLiver, damped));
   bodies.push_back(make_bullet_deformable(box, kLiver, deformable_params));
   for (const auto& body : bodies) {
-    ASSERT_TRUE(run_to_rest(*body, input, kDt, 1200)) << body->name();
+    ASSERT_TRUE(run_to_rest(*body, input, kBulletDt, 1200)) << body->name();
     const Eigen::Vector3d total = body->constraint_forces().rowwise().sum();
     // An estimate from the last step's momentum balance: at rest, within the rest speed's
     // change per step.
@@ -262,12 +262,12 @@ TEST(Bullet, FreeFallGainsGravityTimesDtInOneStep) {
   }
   for (const auto& body : bodies) {
     StepInput input;  // gravity, nothing held
-    ASSERT_TRUE(body->step(kDt, input).finite);
+    ASSERT_TRUE(body->step(kBulletDt, input).finite);
     const Eigen::Vector3d mean_velocity = body->velocities().rowwise().mean();
     // The implicit scheme solves for the whole dv from zero, to the CG tolerance (cg_tolerance
     // 1e-8 on r.z: ~1e-4 relative; measured 1.7e-5).
     constexpr double kCgAccuracy = 1e-4;
-    EXPECT_TRUE(mean_velocity.isApprox(input.gravity * kDt, kCgAccuracy))
+    EXPECT_TRUE(mean_velocity.isApprox(input.gravity * kBulletDt, kCgAccuracy))
         << body->name() << " " << body->parameters().dump() << ": " << mean_velocity.transpose();
   }
 }
@@ -293,11 +293,11 @@ TEST(BulletDeformable, CorotatedIsExplicitOnlyUnstableAtOneSixtiethAndStableAtOn
   input.constraints = pins;
   const DeformableParams corotated = deformable(DeformableParams::Force::kCorotated, false);
   auto at_scene_dt = make_bullet_deformable(box, kLiver, corotated);
-  const int blew_up = first_unstable_step(*at_scene_dt, input, kDt, 60);
+  const int blew_up = first_unstable_step(*at_scene_dt, input, kBulletDt, 60);
   EXPECT_GE(blew_up, 0) << "expected the explicit corotated force to blow up at 1/60 s";
   // Once reported, the body is left alone: the next step says so without calling Bullet.
   if (!at_scene_dt->positions().allFinite()) {
-    EXPECT_FALSE(at_scene_dt->step(kDt, input).finite);
+    EXPECT_FALSE(at_scene_dt->step(kBulletDt, input).finite);
   }
   auto small_step = make_bullet_deformable(box, kLiver, corotated);
   EXPECT_EQ(first_unstable_step(*small_step, input, 1e-3, 1000), -1);
@@ -316,12 +316,12 @@ TEST(BulletDeformable, ReportsConjugateGradientIterationsUpToTheCap) {
   capped.newton_iterations = 2;
   auto body = make_bullet_deformable(small_box(), kLiver, capped);
   for (int step = 0; step < 3; ++step) {
-    const StepStats stats = body->step(kDt, input);
+    const StepStats stats = body->step(kBulletDt, input);
     EXPECT_EQ(stats.linear_solves, 2);
     EXPECT_EQ(stats.iterations, 2 * 7);
   }
   auto converging = make_bullet_deformable(small_box(), kLiver, DeformableParams{});
-  const StepStats stats = converging->step(kDt, input);
+  const StepStats stats = converging->step(kBulletDt, input);
   EXPECT_EQ(stats.linear_solves, 1);
   EXPECT_GT(stats.iterations, 0);
   EXPECT_LT(stats.iterations, 300);
@@ -339,7 +339,7 @@ TEST(BulletDeformable, ElasticEnergyIsZeroAtRestAndGrowsWithTheSag) {
     constexpr double kRestEnergy = 1e-28;  // J
     EXPECT_LT(std::abs(body->elastic_energy()), kRestEnergy);
     for (int step = 0; step < 10; ++step) {
-      body->step(kDt, input);
+      body->step(kBulletDt, input);
     }
     EXPECT_GT(body->elastic_energy(), 1e-6) << body->parameters().dump();
   }
@@ -349,7 +349,7 @@ TEST(BulletDeformable, ElasticEnergyIsZeroAtRestAndGrowsWithTheSag) {
 TEST(BulletSoftBody, EchoesItsCalibrationRecord) {
   const nlohmann::json block = {
       {"stiffness", 0.25},
-      {"calibrated", {{"against", "corotational_fem"}, {"dt", kDt}, {"sag", 0.031}}}};
+      {"calibrated", {{"against", "corotational_fem"}, {"dt", kBulletDt}, {"sag", 0.031}}}};
   const auto body = builtin_models().at("bullet_softbody").create(small_box(), kLiver, block, {});
   EXPECT_EQ(body->parameters()["stiffness"], 0.25);
   EXPECT_EQ(body->parameters()["calibrated"], block["calibrated"]);

@@ -63,7 +63,7 @@ constexpr double kBeamTheoryAgreement = 0.05;
 const Material kMaterial{3000.0, 0.3, 1060.0};
 
 /// The scenes' step.
-constexpr double kDt = 1.0 / 60.0;
+constexpr double kFemDt = 1.0 / 60.0;
 
 Params with_solver(Params::LinearSolver solver, double cg_tolerance = 1e-6) {
   Params params;
@@ -102,12 +102,6 @@ double rms(const Eigen::Matrix3Xd& vectors) {
 Eigen::Matrix3d analytic_stress(const Eigen::Matrix3d& strain, const Material& material) {
   const LameParameters lame = lame_parameters(material);
   return 2.0 * lame.mu * strain + lame.lambda * strain.trace() * Eigen::Matrix3d::Identity();
-}
-
-/// A 20 x 15 x 10 cm box of 5 cm cells, a liver-sized test body.
-const TetMesh& liver_like_box() {
-  static const TetMesh mesh = make_tet_mesh(test::box_tets(4, 3, 2, 0.2, 0.15, 0.1));
-  return mesh;
 }
 
 /// The shipped liver (scenes/data/liver.msh), found from this file's path so the test does not
@@ -173,7 +167,7 @@ TEST(CorotationalFem, UniformDeformationGivesTheAnalyticStressAndForces) {
 }
 
 TEST(CorotationalFem, RigidQuarterTurnProducesNoElasticForceWhenCorotational) {
-  const TetMesh& mesh = liver_like_box();
+  const TetMesh& mesh = test::liver_like_box();
   const Eigen::Matrix3Xd turned =
       Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix()
       * mesh.rest_positions();
@@ -191,7 +185,7 @@ TEST(CorotationalFem, RigidQuarterTurnProducesNoElasticForceWhenCorotational) {
 TEST(CorotationalFem, RigidQuarterTurnProducesLargeElasticForcesWhenLinear) {
   // Linear FEM sees the rotation x = Q X as the strain sym(Q) - I = diag(-1, -1, 0): a 100%
   // compression in the plane of the turn, with forces far above those of a 1% strain.
-  const TetMesh& mesh = liver_like_box();
+  const TetMesh& mesh = test::liver_like_box();
   const Eigen::Matrix3Xd turned =
       Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix()
       * mesh.rest_positions();
@@ -296,7 +290,7 @@ TEST(CorotationalFem, StiffnessIsTheDerivativeOfTheRotatedLinearForcesWithRotati
 // Constraints and reactions
 
 TEST(CorotationalFem, PinnedVerticesNeverMoveWithAnySolver) {
-  const TetMesh& mesh = liver_like_box();
+  const TetMesh& mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
@@ -305,7 +299,7 @@ TEST(CorotationalFem, PinnedVerticesNeverMoveWithAnySolver) {
         Params::LinearSolver::kCholeskyPcg}) {
     auto body = make_corotational_fem(mesh, kMaterial, with_solver(solver));
     for (int step = 0; step < 30; ++step) {
-      const StepStats stats = body->step(kDt, input);
+      const StepStats stats = body->step(kFemDt, input);
       ASSERT_TRUE(stats.finite);
       EXPECT_EQ(stats.max_constraint_error, 0.0);
       for (const PositionConstraint& pin : pins) {
@@ -350,7 +344,7 @@ TEST(CorotationalFem, PenaltyConstraintsPullTowardTheirTargetAndReportTheirError
 // Linear solvers
 
 TEST(CorotationalFem, CholmodAndIterativeSolversAgreeToTheCgToleranceOnOneStep) {
-  const TetMesh& mesh = liver_like_box();
+  const TetMesh& mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
@@ -379,20 +373,20 @@ TEST(CorotationalFem, CholmodAndIterativeSolversAgreeToTheCgToleranceOnOneStep) 
 }
 
 TEST(CorotationalFem, CholeskyPcgReusesItsFactorWhileItPreconditionsWell) {
-  const TetMesh& mesh = liver_like_box();
+  const TetMesh& mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
   Params params = with_solver(Params::LinearSolver::kCholeskyPcg, 1e-8);
   params.refresh_iterations = 5;
   auto body = make_corotational_fem(mesh, kMaterial, params);
-  const StepStats first = body->step(kDt, input);
+  const StepStats first = body->step(kFemDt, input);
   EXPECT_EQ(first.factorizations, 1);  // no factor yet
   EXPECT_LE(first.iterations, 2);      // preconditioned by its own matrix's factor
   int factorizations = 0;
   constexpr int kSteps = 60;
   for (int step = 0; step < kSteps; ++step) {
-    const StepStats stats = body->step(kDt, input);
+    const StepStats stats = body->step(kFemDt, input);
     ASSERT_TRUE(stats.finite);
     EXPECT_LE(stats.residual, 1e-8);
     factorizations += stats.factorizations;
@@ -403,8 +397,8 @@ TEST(CorotationalFem, CholeskyPcgReusesItsFactorWhileItPreconditionsWell) {
 TEST(CorotationalFem, ConjugateGradientReportsHittingItsIterationCap) {
   Params params = with_solver(Params::LinearSolver::kConjugateGradient, 1e-14);
   params.cg_max_iterations = 3;
-  auto body = make_corotational_fem(liver_like_box(), kMaterial, params);
-  const StepStats stats = body->step(kDt, StepInput{});
+  auto body = make_corotational_fem(test::liver_like_box(), kMaterial, params);
+  const StepStats stats = body->step(kFemDt, StepInput{});
   EXPECT_EQ(stats.iterations, 3);
   EXPECT_EQ(stats.truncated_solves, 1);  // stopped by the cap, not by the tolerance
   EXPECT_GT(stats.residual, 1e-14);
@@ -412,14 +406,14 @@ TEST(CorotationalFem, ConjugateGradientReportsHittingItsIterationCap) {
   // With room for it, the same solve meets its tolerance.
   params.cg_max_iterations = 5000;
   params.cg_tolerance = 1e-8;
-  EXPECT_EQ(make_corotational_fem(liver_like_box(), kMaterial, params)
-                ->step(kDt, StepInput{})
+  EXPECT_EQ(make_corotational_fem(test::liver_like_box(), kMaterial, params)
+                ->step(kFemDt, StepInput{})
                 .truncated_solves,
             0);
 }
 
 TEST(CorotationalFem, QuaternionAndSvdRotationsGiveTheSameMotionWhenConverged) {
-  const TetMesh& mesh = liver_like_box();
+  const TetMesh& mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
@@ -429,8 +423,8 @@ TEST(CorotationalFem, QuaternionAndSvdRotationsGiveTheSameMotionWhenConverged) {
   auto a = make_corotational_fem(mesh, kMaterial, by_svd);
   auto b = make_corotational_fem(mesh, kMaterial, by_quaternion);
   for (int step = 0; step < 30; ++step) {
-    a->step(kDt, input);
-    b->step(kDt, input);
+    a->step(kFemDt, input);
+    b->step(kFemDt, input);
   }
   const double motion = rms(a->positions() - mesh.rest_positions());
   ASSERT_GT(motion, 0.01);  // it sagged by centimetres: the elements rotated
@@ -552,7 +546,7 @@ TEST(CorotationalFem, LiverSquashedFlatRecoversItsRestShape) {
     const double squashed = rms(body->positions() - rest) / diagonal;
     constexpr int kSteps = 120;  // 2 s
     for (int step = 0; step < kSteps; ++step) {
-      ASSERT_TRUE(body->step(kDt, no_gravity()).finite) << "step " << step;
+      ASSERT_TRUE(body->step(kFemDt, no_gravity()).finite) << "step " << step;
     }
     const double residual =
         rms(body->positions() - best_rigid_placement(rest, body->positions())) / diagonal;
@@ -577,7 +571,7 @@ TEST(CorotationalFem, ResultsDoNotDependOnTheThreadCount) {
     omp_set_num_threads(threads);
     auto body = make_corotational_fem(mesh, kMaterial, Params{});
     for (int step = 0; step < 3; ++step) {
-      body->step(kDt, input);
+      body->step(kFemDt, input);
     }
     results.push_back(body->positions());
   }
@@ -594,16 +588,16 @@ TEST(CorotationalFem, RejectsABadParameterNamingItsKey) {
   const nlohmann::json bad_solver = {{"solver", "lu"}};
   EXPECT_THAT(
       [&] {
-        info.create(liver_like_box(), kMaterial, bad_solver, {"scene.json", "/models/fem"});
+        info.create(test::liver_like_box(), kMaterial, bad_solver, {"scene.json", "/models/fem"});
       },
       ::testing::ThrowsMessage<InputError>(HasSubstr("/models/fem/solver")));
   const nlohmann::json bad_tolerance = {{"cg_tolerance", 0.0}};
   EXPECT_THROW(
-      info.create(liver_like_box(), kMaterial, bad_tolerance, {"scene.json", "/models/fem"}),
+      info.create(test::liver_like_box(), kMaterial, bad_tolerance, {"scene.json", "/models/fem"}),
       InputError);
   Params negative;
   negative.rayleigh_stiffness = -1.0;
-  EXPECT_THROW(make_corotational_fem(liver_like_box(), kMaterial, negative), InputError);
+  EXPECT_THROW(make_corotational_fem(test::liver_like_box(), kMaterial, negative), InputError);
 }
 
 TEST(CorotationalFem, ForcesAreTheExactGradientOfTheEnergyWithSvdRotations) {

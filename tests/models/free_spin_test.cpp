@@ -64,7 +64,7 @@ const TetMesh& spin_box() {
 }
 
 /// The liver material of the scenes.
-const Material kMaterial{3000.0, 0.3, 1060.0};
+const Material kSpinMaterial{3000.0, 0.3, 1060.0};
 
 constexpr double kSceneStep = 1.0 / 60.0;
 
@@ -100,7 +100,7 @@ SpinResult spin(const std::string& model, const nlohmann::json& params, double d
   const OneThread one_thread;
   harness::SpinMotion motion;
   motion.dt = dt;
-  return harness::free_spin(model, params, spin_box(), kMaterial, motion);
+  return harness::free_spin(model, params, spin_box(), kSpinMaterial, motion);
 }
 
 std::string percent(double fraction) {

@@ -31,40 +31,34 @@ using test::pin_min_x_face;
 using test::place_at_rest;
 
 using ::testing::HasSubstr;
-using Params = MassSpringParams;
 
 // ---------------------------------------------------------------------------------------------
 // Helpers
 
 /// The thesis's springs, k = 180 N/m and c = 5 N s/m on every edge, which the tests below that
 /// name no other springs use (the defaults follow the material instead: see "Defaults").
-Params thesis_springs() {
-  Params params;
-  params.stiffness_from = Params::StiffnessFrom::kGiven;
+MassSpringParams thesis_springs() {
+  MassSpringParams params;
+  params.stiffness_from = MassSpringParams::StiffnessFrom::kGiven;
   params.stiffness = 180.0;
   params.damping = 5.0;
   return params;
 }
 
-Params symplectic(double damping = 5.0) {
-  Params params = thesis_springs();
-  params.integrator = Params::Integrator::kSymplecticEuler;
+MassSpringParams symplectic(double damping = 5.0) {
+  MassSpringParams params = thesis_springs();
+  params.integrator = MassSpringParams::Integrator::kSymplecticEuler;
   params.damping = damping;
   return params;
 }
 
-Params implicit(Params::LinearSolver solver, double cg_tolerance = 1e-6) {
-  Params params = thesis_springs();
-  params.integrator = Params::Integrator::kImplicitEuler;
+MassSpringParams implicit(MassSpringParams::LinearSolver solver, double cg_tolerance = 1e-6) {
+  MassSpringParams params = thesis_springs();
+  params.integrator = MassSpringParams::Integrator::kImplicitEuler;
   params.solver = solver;
   params.cg_tolerance = cg_tolerance;
   params.cg_max_iterations = 2000;
   return params;
-}
-
-/// A liver-sized box (20 x 15 x 10 cm, 5 cm cells).
-TetMesh liver_like_box() {
-  return make_tet_mesh(test::box_tets(4, 3, 2, 0.2, 0.15, 0.1));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -113,7 +107,7 @@ TEST(MassSpring, ImplicitEulerSolvesWithTheJacobianOfItsForces) {
   // with K_ii measured here by central differences of the force on it (held forces read back
   // through the constraints, as the contract suite reads them).
   const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 2, 0.1, 0.1, 0.1));
-  Params params = implicit(Params::LinearSolver::kCholmod);
+  MassSpringParams params = implicit(MassSpringParams::LinearSolver::kCholmod);
   params.damping = 0.0;
   params.mass_damping = 0.0;
   auto body = make_mass_spring(mesh, Material{}, params);
@@ -159,7 +153,7 @@ TEST(MassSpring, SymplecticEulerOscillatesAtTheAnalyticFrequency) {
   // omega^2 = k_eff / m_3 with m_3 = density * (1/6) / 4.
   const TetMesh mesh = make_tet_mesh(test::single_tet());
   const Material material;
-  const Params params = symplectic(/*damping=*/0.0);
+  const MassSpringParams params = symplectic(/*damping=*/0.0);
   auto body = make_mass_spring(mesh, material, params);
   const Eigen::Vector3d u = Eigen::Vector3d(1, -1, 0).normalized();
   const double mass = material.density / 24.0;
@@ -202,7 +196,7 @@ TEST(MassSpring, ImplicitEulerMatchesSymplecticEulerAtSmallTimeSteps) {
   Eigen::Matrix3Xd stretched = mesh.rest_positions();
   stretched.row(0) *= 1.2;
   auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
-  auto implicit_body = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+  auto implicit_body = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   place_at_rest(*explicit_body, stretched);
   place_at_rest(*implicit_body, stretched);
   for (int step = 0; step < 20; ++step) {
@@ -220,7 +214,7 @@ TEST(MassSpring, ImplicitEulerIsStableAtThirtyHertzWhereSymplecticEulerBlowsUp) 
   // The thesis's parameters (k = 180 N/m, c = 5 N s/m, 1060 kg/m^3) on a liver-sized box hung
   // from one face. Its light corner vertices (~6 g) with several springs have
   // omega_max ~ sqrt(sum k / m) ~ 500 1/s, far beyond symplectic Euler's 2 / dt = 60 1/s.
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
@@ -237,8 +231,8 @@ TEST(MassSpring, ImplicitEulerIsStableAtThirtyHertzWhereSymplecticEulerBlowsUp) 
   // Implicit Euler at the same dt stays finite, and its CG solve follows the exact (CHOLMOD)
   // one: after 10 s both rest at the same sag, within 0.1% of the box's size.
   auto implicit_body =
-      make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kConjugateGradient));
-  auto exact_body = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+      make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kConjugateGradient));
+  auto exact_body = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   for (int step = 0; step < kSteps; ++step) {
     ASSERT_TRUE(implicit_body->step(kDt, input).finite) << "step " << step;
     ASSERT_TRUE(exact_body->step(kDt, input).finite) << "step " << step;
@@ -257,15 +251,15 @@ TEST(MassSpring, ImplicitEulerIsStableAtThirtyHertzWhereSymplecticEulerBlowsUp) 
 // Constraints and reactions
 
 TEST(MassSpring, PinnedVerticesNeverMoveWithEitherIntegrator) {
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
-  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod),
-                               implicit(Params::LinearSolver::kConjugateGradient)}) {
+  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod),
+                               implicit(MassSpringParams::LinearSolver::kConjugateGradient)}) {
     auto body = make_mass_spring(mesh, Material{}, params);
     // Symplectic Euler needs a small dt with these parameters; implicit Euler runs at 60 Hz.
-    const double dt = params.integrator == Params::Integrator::kSymplecticEuler ? 1e-4 : 1.0 / 60.0;
+    const double dt = params.integrator == MassSpringParams::Integrator::kSymplecticEuler ? 1e-4 : 1.0 / 60.0;
     for (int step = 0; step < 50; ++step) {
       const StepStats stats = body->step(dt, input);
       ASSERT_TRUE(stats.finite);
@@ -288,9 +282,9 @@ TEST(MassSpring, ReactionsBalanceGravityAtRest) {
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
-  for (const Params& params :
-       {implicit(Params::LinearSolver::kCholmod),
-        implicit(Params::LinearSolver::kConjugateGradient, /*cg_tolerance=*/1e-12)}) {
+  for (const MassSpringParams& params :
+       {implicit(MassSpringParams::LinearSolver::kCholmod),
+        implicit(MassSpringParams::LinearSolver::kConjugateGradient, /*cg_tolerance=*/1e-12)}) {
     auto body = make_mass_spring(mesh, material, params);
     test::expect_reactions_balance_weight_at_rest(*body, masses, input, pins);
   }
@@ -319,7 +313,7 @@ TEST(MassSpring, SymplecticReactionIsTheMomentumChangeMinusTheOtherForces) {
 
 TEST(MassSpring, PenaltyConstraintsPullTowardTheirTargetAndReportTheirError) {
   const TetMesh mesh = make_tet_mesh(test::single_tet());
-  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod)}) {
+  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod)}) {
     auto body = make_mass_spring(mesh, Material{}, params);
     const Eigen::Vector3d target = mesh.rest_positions().col(3) + Eigen::Vector3d(0.0, 0.0, 0.01);
     const std::vector<PositionConstraint> grab{{3, target, 1000.0}};
@@ -337,14 +331,14 @@ TEST(MassSpring, PenaltyConstraintsPullTowardTheirTargetAndReportTheirError) {
 // Linear solvers
 
 TEST(MassSpring, CholmodAndConjugateGradientAgreeOnOneStep) {
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
   constexpr double kCgTolerance = 1e-10;
-  auto direct = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+  auto direct = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   auto iterative = make_mass_spring(
-      mesh, Material{}, implicit(Params::LinearSolver::kConjugateGradient, kCgTolerance));
+      mesh, Material{}, implicit(MassSpringParams::LinearSolver::kConjugateGradient, kCgTolerance));
   const StepStats direct_stats = direct->step(1.0 / 30.0, input);
   const StepStats iterative_stats = iterative->step(1.0 / 30.0, input);
 
@@ -361,8 +355,8 @@ TEST(MassSpring, CholmodAndConjugateGradientAgreeOnOneStep) {
 }
 
 TEST(MassSpring, ConjugateGradientReportsHittingItsIterationCap) {
-  const TetMesh mesh = liver_like_box();
-  Params params = implicit(Params::LinearSolver::kConjugateGradient, 1e-14);
+  const TetMesh mesh = test::liver_like_box();
+  MassSpringParams params = implicit(MassSpringParams::LinearSolver::kConjugateGradient, 1e-14);
   params.cg_max_iterations = 3;
   auto body = make_mass_spring(mesh, Material{}, params);
   const StepStats stats = body->step(1.0 / 30.0, StepInput{});
@@ -378,7 +372,7 @@ TEST(MassSpring, ConjugateGradientReportsHittingItsIterationCap) {
 }
 
 TEST(MassSpring, ResetRestoresTheRestStateAfterABlowUp) {
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   auto body = make_mass_spring(mesh, Material{}, symplectic());
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
@@ -407,7 +401,7 @@ TEST(MassSpring, ExternalForcesAccelerateTheirVertex) {
   input.external_forces = &loads;
   const double dt = 1e-6;
   const double mass = material.density / 24.0;
-  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod)}) {
+  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod)}) {
     auto body = make_mass_spring(mesh, material, params);
     body->step(dt, input);
     const Eigen::Vector3d expected = dt * load / mass;
@@ -417,11 +411,11 @@ TEST(MassSpring, ExternalForcesAccelerateTheirVertex) {
 }
 
 TEST(MassSpring, ANonFiniteStepIsReportedNotThrown) {
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   StepInput input;
   input.gravity.x() = std::numeric_limits<double>::quiet_NaN();
-  for (const Params& params : {symplectic(), implicit(Params::LinearSolver::kCholmod),
-                               implicit(Params::LinearSolver::kConjugateGradient)}) {
+  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod),
+                               implicit(MassSpringParams::LinearSolver::kConjugateGradient)}) {
     auto body = make_mass_spring(mesh, Material{}, params);
     StepStats stats;
     EXPECT_NO_THROW(stats = body->step(1.0 / 60.0, input));
@@ -430,9 +424,9 @@ TEST(MassSpring, ANonFiniteStepIsReportedNotThrown) {
 }
 
 TEST(MassSpring, ReportsTheMemoryItHolds) {
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
-  auto direct = make_mass_spring(mesh, Material{}, implicit(Params::LinearSolver::kCholmod));
+  auto direct = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   EXPECT_GT(explicit_body->memory_bytes(), 0U);
   // The implicit model adds the 3N x 3N system and the factor.
   EXPECT_GT(direct->memory_bytes(), explicit_body->memory_bytes());
@@ -442,14 +436,14 @@ TEST(MassSpring, ReportsTheMemoryItHolds) {
 // Defaults: springs that follow the material, no damping but backward Euler's own
 
 TEST(MassSpringDefaults, SpringsFollowYoungsModulusAndNothingDampsThem) {
-  const Params defaults;
-  EXPECT_EQ(defaults.stiffness_from, Params::StiffnessFrom::kYoungModulus);
+  const MassSpringParams defaults;
+  EXPECT_EQ(defaults.stiffness_from, MassSpringParams::StiffnessFrom::kYoungModulus);
   EXPECT_EQ(defaults.damping, 0.0);
   EXPECT_EQ(defaults.rayleigh_stiffness, 0.0);
   EXPECT_EQ(defaults.mass_damping, 0.0);
   EXPECT_EQ(defaults.stiffness, 180.0);  // the thesis's, for "given"
-  EXPECT_EQ(defaults.integrator, Params::Integrator::kImplicitEuler);
-  EXPECT_EQ(defaults.solver, Params::LinearSolver::kConjugateGradient);
+  EXPECT_EQ(defaults.integrator, MassSpringParams::Integrator::kImplicitEuler);
+  EXPECT_EQ(defaults.solver, MassSpringParams::LinearSolver::kConjugateGradient);
   EXPECT_EQ(defaults.cg_tolerance, 1e-6);
   // `softbench models` documents the same defaults.
   std::map<std::string, nlohmann::json> documented;
@@ -479,7 +473,7 @@ TEST(MassSpringDefaults, ABarInTensionStretchesAsYoungsModulusSays) {
   constexpr double kWidth = 0.01;
   const TetMesh mesh = make_tet_mesh(test::box_tets(20, 2, 2, kLength, kWidth, kWidth));
   const Material material;  // E 3000 Pa
-  Params params;
+  MassSpringParams params;
   params.mass_damping = 20.0;  // 1/s: to rest sooner (the equilibrium does not depend on it)
   auto body = make_mass_spring(mesh, material, params);
 
@@ -526,13 +520,13 @@ TEST(MassSpringDamping, RayleighStiffnessGivesEachSpringADashpotBetaTimesItsStif
   const TetMesh mesh = make_tet_mesh(test::single_tet());
   const Material material;
   const double mass = material.density / 24.0;
-  for (const Params::StiffnessFrom from :
-       {Params::StiffnessFrom::kGiven, Params::StiffnessFrom::kYoungModulus}) {
-    Params params = symplectic(/*damping=*/0.0);
+  for (const MassSpringParams::StiffnessFrom from :
+       {MassSpringParams::StiffnessFrom::kGiven, MassSpringParams::StiffnessFrom::kYoungModulus}) {
+    MassSpringParams params = symplectic(/*damping=*/0.0);
     params.stiffness_from = from;
     params.rayleigh_stiffness = 0.07;  // s: a damping ratio of about 0.05 on this mode
     auto body = make_mass_spring(mesh, material, params);
-    const double k_eff = from == Params::StiffnessFrom::kGiven ? 0.5 * params.stiffness
+    const double k_eff = from == MassSpringParams::StiffnessFrom::kGiven ? 0.5 * params.stiffness
                                                                : material.young_modulus / 24.0;
     const double omega_squared = k_eff / mass;
     const double sigma = params.rayleigh_stiffness * omega_squared / 2.0;
@@ -573,14 +567,14 @@ TEST(MassSpringDamping, RayleighStiffnessGivesEachSpringADashpotBetaTimesItsStif
 TEST(MassSpringDamping, RayleighStiffnessOnGivenSpringsIsThatMuchDamping) {
   // Every spring has k = 180 N/m: rayleigh_stiffness beta is damping = 180 beta N s/m, step for
   // step (to round-off: the dashpot is summed as damping + beta k).
-  const TetMesh mesh = liver_like_box();
+  const TetMesh mesh = test::liver_like_box();
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
-  Params rayleigh = implicit(Params::LinearSolver::kCholmod);
+  MassSpringParams rayleigh = implicit(MassSpringParams::LinearSolver::kCholmod);
   rayleigh.damping = 0.0;
   rayleigh.rayleigh_stiffness = 0.01;
-  Params damping = rayleigh;
+  MassSpringParams damping = rayleigh;
   damping.rayleigh_stiffness = 0.0;
   damping.damping = 1.8;
   auto by_rayleigh = make_mass_spring(mesh, Material{}, rayleigh);
@@ -637,13 +631,13 @@ TEST(MassSpring, ConjugateGradientFollowsCholmodUnderAPressingContact) {
   // "block_jacobi" (measured): required within 1e-6.
   const PressedBox box;
   ASSERT_GE(box.pressed.size(), 4U);
-  for (const Params::Preconditioner preconditioner :
-       {Params::Preconditioner::kSsor, Params::Preconditioner::kBlockJacobi}) {
-    Params iterative;
+  for (const MassSpringParams::Preconditioner preconditioner :
+       {MassSpringParams::Preconditioner::kSsor, MassSpringParams::Preconditioner::kBlockJacobi}) {
+    MassSpringParams iterative;
     iterative.mass_damping = 5.0;
     iterative.preconditioner = preconditioner;
-    Params direct = iterative;
-    direct.solver = Params::LinearSolver::kCholmod;
+    MassSpringParams direct = iterative;
+    direct.solver = MassSpringParams::LinearSolver::kCholmod;
     auto cg = make_mass_spring(box.mesh, Material{}, iterative);
     auto cholmod = make_mass_spring(box.mesh, Material{}, direct);
     double worst_position = 0.0;
@@ -675,8 +669,8 @@ TEST(MassSpring, SsorTakesFewerIterationsThanBlockJacobi) {
   // Same system, same stopping rule: symmetric Gauss-Seidel (Eisenstat's form, about the cost of
   // one product per iteration) needs about half of block Jacobi's iterations on a mesh like this.
   const PressedBox box;
-  const auto iterations = [&box](Params::Preconditioner preconditioner) {
-    Params params;
+  const auto iterations = [&box](MassSpringParams::Preconditioner preconditioner) {
+    MassSpringParams params;
     params.preconditioner = preconditioner;
     auto body = make_mass_spring(box.mesh, Material{}, params);
     int total = 0;
@@ -688,8 +682,8 @@ TEST(MassSpring, SsorTakesFewerIterationsThanBlockJacobi) {
     }
     return total;
   };
-  const int ssor = iterations(Params::Preconditioner::kSsor);
-  const int jacobi = iterations(Params::Preconditioner::kBlockJacobi);
+  const int ssor = iterations(MassSpringParams::Preconditioner::kSsor);
+  const int jacobi = iterations(MassSpringParams::Preconditioner::kBlockJacobi);
   EXPECT_GT(ssor, 0);
   EXPECT_LT(ssor, 0.75 * jacobi) << ssor << " vs " << jacobi;
 }
@@ -702,8 +696,8 @@ TEST(MassSpring, AMeshAboveTheParallelThresholdStepsAlikeOnOneAndTwoThreads) {
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
-  for (const Params& params : {Params{}, symplectic()}) {
-    const double dt = params.integrator == Params::Integrator::kSymplecticEuler ? 1e-5 : 1.0 / 60;
+  for (const MassSpringParams& params : {MassSpringParams{}, symplectic()}) {
+    const double dt = params.integrator == MassSpringParams::Integrator::kSymplecticEuler ? 1e-5 : 1.0 / 60;
     const auto run = [&](int threads) {
       const int before = omp_get_max_threads();
       omp_set_num_threads(threads);
@@ -765,13 +759,13 @@ TEST(MassSpringParams, OutOfRangeValuesAreRejected) {
 
 TEST(MassSpringParams, DirectConstructionRejectsInvalidParametersAndMaterial) {
   const TetMesh mesh = make_tet_mesh(test::single_tet());
-  Params negative;
+  MassSpringParams negative;
   negative.stiffness = -180.0;
   EXPECT_THROW(make_mass_spring(mesh, Material{}, negative), InputError);
-  Params not_a_number;
+  MassSpringParams not_a_number;
   not_a_number.damping = std::nan("");
   EXPECT_THROW(make_mass_spring(mesh, Material{}, not_a_number), InputError);
-  EXPECT_THROW(make_mass_spring(mesh, Material{-1.0, 0.3, 1000.0}, Params{}), InputError);
+  EXPECT_THROW(make_mass_spring(mesh, Material{-1.0, 0.3, 1000.0}, MassSpringParams{}), InputError);
 }
 
 TEST(MassSpringParams, RegistryListsEveryParameterWithItsDefault) {
@@ -821,8 +815,8 @@ TEST(MassSpringParams, YoungModulusStiffnessStoresTheContinuumEnergyOfAUniaxialS
   // times it.
   const TetMesh mesh = make_tet_mesh(test::box_tets(3, 3, 3, 0.3, 0.3, 0.3));
   const Material material;
-  Params params;
-  params.stiffness_from = Params::StiffnessFrom::kYoungModulus;
+  MassSpringParams params;
+  params.stiffness_from = MassSpringParams::StiffnessFrom::kYoungModulus;
   auto body = make_mass_spring(mesh, material, params);
   constexpr double kStrain = 1e-4;
   Eigen::Matrix3Xd stretched = mesh.rest_positions();
@@ -839,8 +833,8 @@ TEST(MassSpringParams, YoungModulusStiffnessStoresTheContinuumEnergyOfAUniaxialS
 
 TEST(MassSpringParams, YoungModulusStiffnessScalesWithTheMaterial) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 2));
-  Params params;
-  params.stiffness_from = Params::StiffnessFrom::kYoungModulus;
+  MassSpringParams params;
+  params.stiffness_from = MassSpringParams::StiffnessFrom::kYoungModulus;
   Eigen::Matrix3Xd stretched = mesh.rest_positions();
   stretched.row(1) *= 1.01;
   auto soft = make_mass_spring(mesh, Material{1000.0, 0.3, 1000.0}, params);

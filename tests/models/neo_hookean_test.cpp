@@ -39,13 +39,13 @@ using test::pin_min_x_face;
 // Settings and tolerances
 
 /// The thesis's liver material.
-const Material kMaterial{3000.0, 0.3, 1060.0};
+const Material kNhMaterial{3000.0, 0.3, 1060.0};
 
 /// Central differences of O(1) functions of O(1) arguments with this step: truncation
 /// ~h^2 = 1e-12, cancellation ~1e-16 / h = 1e-10, both relative to the function's scale.
 constexpr double kStep = 1e-6;
 /// Agreement asked of the central differences: 1e4 x the larger of the two errors above.
-constexpr double kDifferenceAgreement = 1e-6;
+constexpr double kNhDifferenceAgreement = 1e-6;
 /// Round-off of stresses built from a few dozen products of O(1) numbers, relative to mu.
 constexpr double kStressRoundoff = 1e-12;
 /// A quasi-static solve: backward Euler with a step so long that inertia (M / dt^2) is a small
@@ -54,7 +54,7 @@ constexpr double kStressRoundoff = 1e-12;
 constexpr double kStaticDt = 1e3;
 
 StableNeoHookean material_law() {
-  return neo_hookean::stable_neo_hookean(lame_parameters(kMaterial));
+  return neo_hookean::stable_neo_hookean(lame_parameters(kNhMaterial));
 }
 
 /// A converged reference: Newton to 1e-10 of the bounding-box diagonal.
@@ -139,7 +139,7 @@ double box_diagonal(const TetMesh& mesh) {
 // The energy density
 
 TEST(StableNeoHookean, ReparametrisationFollowsSmithEtAl) {
-  const LameParameters lame = lame_parameters(kMaterial);
+  const LameParameters lame = lame_parameters(kNhMaterial);
   const StableNeoHookean law = material_law();
   EXPECT_DOUBLE_EQ(law.mu, 4.0 / 3.0 * lame.mu);
   EXPECT_DOUBLE_EQ(law.lambda, lame.lambda + 5.0 / 6.0 * lame.mu);
@@ -176,7 +176,7 @@ TEST(StableNeoHookean, StressIsTheEnergyGradientIncludingInvertedStates) {
           / (2.0 * kStep);
     }
     EXPECT_LT((difference - stress).norm(),
-              kDifferenceAgreement * (stress.norm() + law.mu + law.lambda))
+              kNhDifferenceAgreement * (stress.norm() + law.mu + law.lambda))
         << "F =\n"
         << deformation << "\nJ = " << deformation.determinant();
   }
@@ -198,7 +198,7 @@ TEST(StableNeoHookean, StressDerivativeIsTheStressGradientIncludingInvertedState
       difference.col(k) = Eigen::Map<const Vector9d>(column.data());
     }
     EXPECT_LT((difference - hessian).norm(),
-              kDifferenceAgreement * (hessian.norm() + law.mu + law.lambda))
+              kNhDifferenceAgreement * (hessian.norm() + law.mu + law.lambda))
         << "J = " << deformation.determinant();
     EXPECT_TRUE(hessian.isApprox(hessian.transpose(), 1e-14));
   }
@@ -242,7 +242,7 @@ TEST(StableNeoHookean, ProjectionInTheSingularFrameEqualsTheFullEigenProjection)
 TEST(StableNeoHookean, LinearisesToLinearElasticityWithTheMaterialsYoungModulusAndPoisson) {
   // At F = I, d^2Psi/dF^2 is the linear elasticity tensor of (lambda_L, mu_L):
   // C_(ik)(jl) = mu_L (d_ij d_kl + d_il d_jk) + lambda_L d_ik d_jl, in vec(F) order 3 k + i.
-  const LameParameters lame = lame_parameters(kMaterial);
+  const LameParameters lame = lame_parameters(kNhMaterial);
   Matrix9d elasticity = Matrix9d::Zero();
   const auto delta = [](int a, int b) { return a == b ? 1.0 : 0.0; };
   for (int i = 0; i < 3; ++i) {
@@ -272,9 +272,9 @@ const TetMesh& two_cubes() {
 
 TEST(NeoHookean, RigidMotionsHaveNoElasticEnergyOrForce) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.15, 0.1, 0.1));
-  NeoHookeanModel model(mesh, kMaterial, {});
+  NeoHookeanModel model(mesh, kNhMaterial, {});
   // The force of a 1% strain on a 5 cm cell, against which zero is judged.
-  const double force_scale = kMaterial.young_modulus * 0.01 * 0.05 * 0.05;
+  const double force_scale = kNhMaterial.young_modulus * 0.01 * 0.05 * 0.05;
   const double volume = mesh_volume(mesh);
   std::mt19937 random(3);
   for (int k = 0; k < 5; ++k) {
@@ -283,13 +283,13 @@ TEST(NeoHookean, RigidMotionsHaveNoElasticEnergyOrForce) {
     model.set_state(motion * mesh.rest_positions(), Eigen::Matrix3Xd::Zero(3, mesh.num_vertices()));
     EXPECT_LT(model.elastic_gradient().cwiseAbs().maxCoeff(), kStressRoundoff * force_scale);
     // The energy of a 1e-9 strain (as in the contract test).
-    EXPECT_LT(std::abs(model.elastic_energy()), 0.5 * kMaterial.young_modulus * 1e-18 * volume);
+    EXPECT_LT(std::abs(model.elastic_energy()), 0.5 * kNhMaterial.young_modulus * 1e-18 * volume);
   }
 }
 
 TEST(NeoHookean, AssembledGradientAndHessianMatchFiniteDifferencesWithInvertedTets) {
   const TetMesh& mesh = two_cubes();
-  NeoHookeanModel model(mesh, kMaterial, {});
+  NeoHookeanModel model(mesh, kNhMaterial, {});
   // Vertices moved by up to 6 cm on 10 cm cells: large strains, some tets inverted.
   const Eigen::Matrix3Xd positions = scrambled(mesh, 0.06, 5);
   ASSERT_GE(inverted_tets(mesh, positions), 1);
@@ -319,9 +319,9 @@ TEST(NeoHookean, AssembledGradientAndHessianMatchFiniteDifferencesWithInvertedTe
         positions.size());
   }
   EXPECT_LT((gradient_difference - gradient).cwiseAbs().maxCoeff(),
-            kDifferenceAgreement * gradient.cwiseAbs().maxCoeff());
+            kNhDifferenceAgreement * gradient.cwiseAbs().maxCoeff());
   EXPECT_LT((hessian_difference - hessian).cwiseAbs().maxCoeff(),
-            kDifferenceAgreement * hessian.cwiseAbs().maxCoeff());
+            kNhDifferenceAgreement * hessian.cwiseAbs().maxCoeff());
   EXPECT_TRUE(hessian.isApprox(hessian.transpose(), 1e-14));
   // The elastic forces of a free body balance: no net force.
   EXPECT_LT(gradient.rowwise().sum().norm(), 1e-12 * gradient.cwiseAbs().maxCoeff());
@@ -329,7 +329,7 @@ TEST(NeoHookean, AssembledGradientAndHessianMatchFiniteDifferencesWithInvertedTe
 
 TEST(NeoHookean, ProjectedAssembledHessianIsPositiveSemiDefinite) {
   const TetMesh& mesh = two_cubes();
-  NeoHookeanModel model(mesh, kMaterial, {});
+  NeoHookeanModel model(mesh, kNhMaterial, {});
   model.set_state(scrambled(mesh, 0.06, 5), Eigen::Matrix3Xd::Zero(3, mesh.num_vertices()));
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> raw(
       Eigen::MatrixXd(model.elastic_hessian(false)));
@@ -403,7 +403,7 @@ StretchResult stretch_box(double axial_stretch, double lateral_stretch) {
       far_face.push_back(v);
     }
   }
-  auto body = make_neo_hookean(mesh, kMaterial, tight());
+  auto body = make_neo_hookean(mesh, kNhMaterial, tight());
   StretchResult result;
   result.diagonal = box_diagonal(mesh);
   // Loaded in 4 increments (each a static solve), then held until nothing moves.
@@ -448,13 +448,13 @@ TEST(NeoHookean, UniaxialStretchMatchesTheAnalyticNominalStress) {
               << ", P11 = " << state.nominal_stress
               << " Pa; FE reaction / (P11 A0) = " << result.axial_force / force
               << ", linear E (l1 - 1) / P11 = "
-              << kMaterial.young_modulus * (axial - 1.0) / state.nominal_stress << "\n";
+              << kNhMaterial.young_modulus * (axial - 1.0) / state.nominal_stress << "\n";
     EXPECT_LT(result.max_position_error, 1e-8 * result.diagonal) << "l1 = " << axial;
     EXPECT_NEAR(result.axial_force, force, 1e-6 * std::abs(force)) << "l1 = " << axial;
     EXPECT_LT(result.lateral_force, 1e-6 * std::abs(force)) << "l1 = " << axial;
     // Not linear elasticity: at these strains the nominal stress is > 5% off E (l1 - 1), so the
     // test would catch a linearised energy.
-    EXPECT_GT(std::abs(kMaterial.young_modulus * (axial - 1.0) / state.nominal_stress - 1.0), 0.05)
+    EXPECT_GT(std::abs(kNhMaterial.young_modulus * (axial - 1.0) / state.nominal_stress - 1.0), 0.05)
         << "l1 = " << axial;
   }
 }
@@ -463,21 +463,21 @@ TEST(NeoHookean, SmallUniaxialStrainHasTheMaterialsYoungModulusAndPoissonRatio) 
   // eps = 1e-4: the nonlinear terms are O(eps) relative, so E and nu within 0.1%.
   constexpr double kStrain = 1e-4;
   const UniaxialState state = uniaxial(1.0 + kStrain, material_law());
-  EXPECT_NEAR(state.nominal_stress / kStrain, kMaterial.young_modulus,
-              1e-3 * kMaterial.young_modulus);
-  EXPECT_NEAR((1.0 - state.lateral_stretch) / kStrain, kMaterial.poisson_ratio,
-              1e-3 * kMaterial.poisson_ratio);
+  EXPECT_NEAR(state.nominal_stress / kStrain, kNhMaterial.young_modulus,
+              1e-3 * kNhMaterial.young_modulus);
+  EXPECT_NEAR((1.0 - state.lateral_stretch) / kStrain, kNhMaterial.poisson_ratio,
+              1e-3 * kNhMaterial.poisson_ratio);
   // And the FE model reproduces it (reaction within 1e-6, as above).
   const StretchResult result = stretch_box(1.0 + kStrain, state.lateral_stretch);
-  EXPECT_NEAR(result.axial_force / (0.04 * 0.04 * kStrain), kMaterial.young_modulus,
-              1e-3 * kMaterial.young_modulus);
+  EXPECT_NEAR(result.axial_force / (0.04 * 0.04 * kStrain), kNhMaterial.young_modulus,
+              1e-3 * kNhMaterial.young_modulus);
 }
 
 TEST(NeoHookean, WrongLateralContractionIsDetected) {
   // Holding the ends at the linear prediction of l2 instead of this energy's at 50% stretch
   // leaves the free sides out of equilibrium: the FE solution departs from the homogeneous
   // state, so the agreement above is not automatic.
-  const StretchResult result = stretch_box(1.5, 1.0 - 0.5 * kMaterial.poisson_ratio);
+  const StretchResult result = stretch_box(1.5, 1.0 - 0.5 * kNhMaterial.poisson_ratio);
   EXPECT_GT(result.max_position_error, 1e-4 * result.diagonal);
 }
 
@@ -512,13 +512,13 @@ double cantilever_error(int nx, int ny, int nz, const Factory& body_factory) {
   }
   deflection /= tip;
   // The clamp holds the whole weight.
-  const double weight = kMaterial.density * mesh_volume(mesh) * kGravity;
+  const double weight = kNhMaterial.density * mesh_volume(mesh) * kGravity;
   EXPECT_NEAR(body->constraint_forces().row(2).sum(), weight, 1e-6 * weight);
 
   const double inertia = kSide * kSide * kSide * kSide / 12.0;
-  const double load = kMaterial.density * kGravity * kSide * kSide;
+  const double load = kNhMaterial.density * kGravity * kSide * kSide;
   const double beam_theory =
-      -load * std::pow(kLength, 4) / (8.0 * kMaterial.young_modulus * inertia);
+      -load * std::pow(kLength, 4) / (8.0 * kNhMaterial.young_modulus * inertia);
   return deflection / beam_theory - 1.0;
 }
 
@@ -530,12 +530,12 @@ TEST(NeoHookean, CantileverDeflectionConvergesToEulerBernoulli) {
   // remains against Euler-Bernoulli is the mesh's, not the energy's. Tolerance on the finest
   // mesh (80 x 8 x 8 cells, 20k unknowns; ~4 s here): 8%, the measured locking with a margin;
   // shear (Timoshenko: +1% for a 10:1 beam under a distributed load) is inside it.
-  const auto reference = [](const TetMesh& mesh) { return make_neo_hookean(mesh, kMaterial, {}); };
+  const auto reference = [](const TetMesh& mesh) { return make_neo_hookean(mesh, kNhMaterial, {}); };
   const auto linear_fem = [](const TetMesh& mesh) {
     CorotationalFemParams params;
     params.formulation = CorotationalFemParams::Formulation::kLinear;
     params.solver = CorotationalFemParams::LinearSolver::kCholmod;
-    return make_corotational_fem(mesh, kMaterial, params);
+    return make_corotational_fem(mesh, kNhMaterial, params);
   };
   const std::vector<std::array<int, 3>> meshes{{20, 2, 2}, {40, 4, 4}, {80, 8, 8}};
   double previous = 0.0;
@@ -571,7 +571,7 @@ Eigen::Matrix3Xd sagging_bar(double dt,
   StepInput input;
   input.constraints = clamp;
   constexpr double kRamp = 0.2;
-  auto body = make_neo_hookean(mesh, kMaterial, params);
+  auto body = make_neo_hookean(mesh, kNhMaterial, params);
   const int steps = static_cast<int>(std::lround(duration / dt));
   for (int step = 0; step < steps; ++step) {
     const double t = (step + 1) * dt;  // backward Euler: the loads at the end of the step
@@ -641,7 +641,7 @@ TEST(NeoHookean, AStepThatDoesNotConvergeIsReported) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.12, 0.08, 0.08));
   NeoHookeanParams params;
   params.max_iterations = 1;
-  auto body = make_neo_hookean(mesh, kMaterial, params);
+  auto body = make_neo_hookean(mesh, kNhMaterial, params);
   std::vector<PositionConstraint> pins;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Eigen::Vector3d x = mesh.rest_positions().col(v);
@@ -654,7 +654,7 @@ TEST(NeoHookean, AStepThatDoesNotConvergeIsReported) {
   EXPECT_EQ(stats.iterations, 1);
   EXPECT_GT(stats.residual, params.tolerance);
   // Given the iterations, the same step converges.
-  auto converged = make_neo_hookean(mesh, kMaterial, {});
+  auto converged = make_neo_hookean(mesh, kNhMaterial, {});
   const StepStats full = converged->step(1.0 / 60.0, no_gravity(pins));
   EXPECT_LE(full.residual, NeoHookeanParams{}.tolerance);
   EXPECT_GT(full.iterations, 1);
@@ -669,7 +669,7 @@ TEST(NeoHookean, RecoversFromAnInvertedStart) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.12, 0.08, 0.08));
   NeoHookeanParams params;
   params.rayleigh_mass = 5.0;
-  NeoHookeanModel model(mesh, kMaterial, params);
+  NeoHookeanModel model(mesh, kNhMaterial, params);
   Eigen::Matrix3Xd mirrored = mesh.rest_positions();
   mirrored.row(2) = (0.08 - mirrored.row(2).array()).matrix();
   ASSERT_EQ(inverted_tets(mesh, mirrored), mesh.num_tets());

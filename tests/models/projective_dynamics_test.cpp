@@ -22,11 +22,10 @@ namespace softbench {
 namespace {
 
 using test::pin_min_x_face;
-using Params = ProjectiveDynamicsParams;
 
 /// The thesis's liver material.
-const Material kMaterial{3000.0, 0.3, 1060.0};
-constexpr double kDt = 1.0 / 60.0;
+const Material kPdMaterial{3000.0, 0.3, 1060.0};
+constexpr double kPdDt = 1.0 / 60.0;
 
 /// A 10 x 5 x 5 cm bar, 4 x 2 x 2 cubes of 6 tets.
 const TetMesh& bar() {
@@ -40,7 +39,7 @@ StepInput ramped_gravity(int step, std::span<const PositionConstraint> holds) {
   StepInput input;
   input.constraints = holds;
   constexpr double kRamp = 0.2;
-  const double t = (step + 1) * kDt;
+  const double t = (step + 1) * kPdDt;
   input.gravity.z() =
       -9.81 * (t < kRamp ? 0.5 * (1.0 - std::cos(std::numbers::pi * t / kRamp)) : 1.0);
   return input;
@@ -50,7 +49,7 @@ StepInput ramped_gravity(int step, std::span<const PositionConstraint> holds) {
 Eigen::Matrix3Xd clamped_bar(SoftBody& body, int steps) {
   const std::vector<PositionConstraint> clamp = pin_min_x_face(bar());
   for (int step = 0; step < steps; ++step) {
-    EXPECT_TRUE(body.step(kDt, ramped_gravity(step, clamp)).finite);
+    EXPECT_TRUE(body.step(kPdDt, ramped_gravity(step, clamp)).finite);
   }
   return body.positions();
 }
@@ -63,14 +62,14 @@ TEST(ProjectiveDynamics, SettlesWhereCorotationalFemSettles) {
   // The two constraints are corotational_fem's element energy exactly, so both models' static
   // equilibria are the same minimiser, whatever each does on the way. Damped settling runs;
   // the tolerance is what 400 steps leave of the motion (the sag is ~4 mm).
-  Params params;
+  ProjectiveDynamicsParams params;
   params.rayleigh_mass = 20.0;
   params.iterations = 20;
-  auto pd = make_projective_dynamics(bar(), kMaterial, params);
+  auto pd = make_projective_dynamics(bar(), kPdMaterial, params);
   CorotationalFemParams fem_params;
   fem_params.solver = CorotationalFemParams::LinearSolver::kCholmod;
   fem_params.rayleigh_mass = 20.0;
-  auto fem = make_corotational_fem(bar(), kMaterial, fem_params);
+  auto fem = make_corotational_fem(bar(), kPdMaterial, fem_params);
   const Eigen::Matrix3Xd pd_rest = clamped_bar(*pd, 400);
   const Eigen::Matrix3Xd fem_rest = clamped_bar(*fem, 400);
   const double sag = rms_distance(fem_rest, bar().rest_positions());
@@ -82,15 +81,15 @@ TEST(ProjectiveDynamics, SettlesWhereCorotationalFemSettles) {
 
 TEST(ProjectiveDynamics, ErrorAgainstTheNeoHookeanReferenceFallsWithIterations) {
   NeoHookeanParams reference_params;
-  auto reference = make_neo_hookean(bar(), kMaterial, reference_params);
+  auto reference = make_neo_hookean(bar(), kPdMaterial, reference_params);
   constexpr int kSteps = 15;  // 0.25 s: the bar still swinging, where iterations matter
   const Eigen::Matrix3Xd expected = clamped_bar(*reference, kSteps);
   const double motion = rms_distance(expected, bar().rest_positions());
   std::vector<double> errors;
   for (const int iterations : {1, 3, 10, 30, 100}) {
-    Params params;
+    ProjectiveDynamicsParams params;
     params.iterations = iterations;
-    auto pd = make_projective_dynamics(bar(), kMaterial, params);
+    auto pd = make_projective_dynamics(bar(), kPdMaterial, params);
     errors.push_back(rms_distance(clamped_bar(*pd, kSteps), expected) / motion);
     std::cout << "[ iterations ] " << iterations << ": RMS error / motion " << errors.back()
               << "\n";
@@ -125,7 +124,7 @@ TEST(ProjectiveDynamics, HoldsByMultipliersEqualHoldsByElimination) {
   const std::vector<int> pressed = top_far_vertices();
   ASSERT_GE(pressed.size(), 4U);
   const auto run = [&](bool anchors, Eigen::Matrix3Xd* forces) {
-    auto pd = make_projective_dynamics(bar(), kMaterial, {});
+    auto pd = make_projective_dynamics(bar(), kPdMaterial, {});
     std::vector<PositionConstraint> holds = pin_min_x_face(bar());
     for (const int v : pressed) {
       holds.push_back({v, bar().rest_positions().col(v), kExact,
@@ -135,7 +134,7 @@ TEST(ProjectiveDynamics, HoldsByMultipliersEqualHoldsByElimination) {
       for (std::size_t k = holds.size() - pressed.size(); k < holds.size(); ++k) {
         holds[k].target.z() -= 2e-4;  // pressed down 4 mm over the run
       }
-      const StepStats stats = pd->step(kDt, ramped_gravity(step, holds));
+      const StepStats stats = pd->step(kPdDt, ramped_gravity(step, holds));
       EXPECT_LT(stats.max_constraint_error, 1e-14);
     }
     *forces = pd->constraint_forces();
@@ -155,7 +154,7 @@ TEST(ProjectiveDynamics, ContactComesAndGoesWithoutRefactorising) {
   // Holds along a normal that change every step (a contact patch moving over the surface):
   // the factor made at the first step stays; only the new vertices' columns are solved for.
   // The holds end on their planes and push along their normals only.
-  auto pd = make_projective_dynamics(bar(), kMaterial, {});
+  auto pd = make_projective_dynamics(bar(), kPdMaterial, {});
   const std::vector<PositionConstraint> clamp = pin_min_x_face(bar());
   const std::vector<int> top = top_far_vertices();
   const Eigen::Vector3d normal = Eigen::Vector3d(0.2, 0.0, 1.0).normalized();
@@ -169,7 +168,7 @@ TEST(ProjectiveDynamics, ContactComesAndGoesWithoutRefactorising) {
                          PositionConstraint::along(normal), /*anchors=*/false});
       }
     }
-    const StepStats stats = pd->step(kDt, ramped_gravity(step, holds));
+    const StepStats stats = pd->step(kPdDt, ramped_gravity(step, holds));
     ASSERT_TRUE(stats.finite);
     EXPECT_LT(stats.max_constraint_error, 1e-14);
     factorizations += stats.factorizations;
@@ -183,7 +182,7 @@ TEST(ProjectiveDynamics, ContactComesAndGoesWithoutRefactorising) {
 }
 
 TEST(ProjectiveDynamics, APenaltyHoldIsASpringAndAGraspRefactorisesOnce) {
-  auto pd = make_projective_dynamics(bar(), kMaterial, {});
+  auto pd = make_projective_dynamics(bar(), kPdMaterial, {});
   std::vector<PositionConstraint> holds = pin_min_x_face(bar());
   const int tip = top_far_vertices().back();
   constexpr double kStiffness = 50.0;  // N/m
@@ -191,7 +190,7 @@ TEST(ProjectiveDynamics, APenaltyHoldIsASpringAndAGraspRefactorisesOnce) {
   holds.push_back({tip, anchor, kStiffness});
   int factorizations = 0;
   for (int step = 0; step < 10; ++step) {
-    const StepStats stats = pd->step(kDt, ramped_gravity(step, holds));
+    const StepStats stats = pd->step(kPdDt, ramped_gravity(step, holds));
     factorizations += stats.factorizations;
     const Eigen::Vector3d spring = kStiffness * (anchor - pd->positions().col(tip));
     EXPECT_LT((pd->constraint_forces().col(tip) - spring).norm(), 1e-12 * spring.norm());
@@ -201,7 +200,7 @@ TEST(ProjectiveDynamics, APenaltyHoldIsASpringAndAGraspRefactorisesOnce) {
   // then it holds without another.
   holds.back().stiffness = kExact;
   for (int step = 10; step < 15; ++step) {
-    factorizations += pd->step(kDt, ramped_gravity(step, holds)).factorizations;
+    factorizations += pd->step(kPdDt, ramped_gravity(step, holds)).factorizations;
     EXPECT_EQ(pd->positions().col(tip), anchor);
   }
   EXPECT_EQ(factorizations, 2);
@@ -215,9 +214,9 @@ TEST(ProjectiveDynamics, OneAndTwoThreadsGiveTheSameBitsWhereTheLocalStepRunsInP
   const std::vector<PositionConstraint> clamp = pin_min_x_face(mesh);
   const auto run = [&](int threads) {
     omp_set_num_threads(threads);
-    auto pd = make_projective_dynamics(mesh, kMaterial, {});
+    auto pd = make_projective_dynamics(mesh, kPdMaterial, {});
     for (int step = 0; step < 3; ++step) {
-      EXPECT_TRUE(pd->step(kDt, ramped_gravity(10 + step, clamp)).finite);
+      EXPECT_TRUE(pd->step(kPdDt, ramped_gravity(10 + step, clamp)).finite);
     }
     return std::make_pair(Eigen::Matrix3Xd(pd->positions()),
                           Eigen::Matrix3Xd(pd->constraint_forces()));

@@ -19,7 +19,7 @@
 namespace softbench {
 namespace {
 
-const Material kMaterial{30000.0, 0.3, 1060.0};
+const Material kStiffMaterial{30000.0, 0.3, 1060.0};
 
 /// A 12 x 4 x 4 cm beam of 6 x 2 x 2 cells, pinned at x = 0: it hangs under gravity (E 30 kPa:
 /// a few mm at its tip).
@@ -38,7 +38,7 @@ struct Settled {
 /// snaps through a tet configuration around 4 s, at up to 2 cm/s, before it settles.)
 Settled settle(const std::string& model, const nlohmann::json& params) {
   const std::unique_ptr<SoftBody> body =
-      builtin_models().at(model).create(beam(), kMaterial, params, ParamSource{});
+      builtin_models().at(model).create(beam(), kStiffMaterial, params, ParamSource{});
   const std::vector<PositionConstraint> pins = test::pin_min_x_face(beam());
   StepInput input;
   input.constraints = pins;

@@ -37,7 +37,6 @@ using test::pin_min_x_face;
 using test::place_at_rest;
 
 using ::testing::HasSubstr;
-using Params = ShapeMatchingParams;
 using shape_matching::ShapeMatchingModel;
 
 // ---------------------------------------------------------------------------------------------
@@ -53,13 +52,13 @@ constexpr double kRotationAgreement = 1e-9;
 constexpr double kStepRoundoff = 1e-12;
 /// "Recovered": RMS distance to the best rigid placement of the rest shape, and the relative
 /// volume change, below 1% (of the bounding-box diagonal; of the rest volume).
-constexpr double kRecovered = 0.01;
+constexpr double kSmRecovered = 0.01;
 
 /// The scenes' step.
-constexpr double kDt = 1.0 / 60.0;
+constexpr double kSmDt = 1.0 / 60.0;
 
 /// The thesis's liver material; only the density matters here.
-const Material kMaterial{3000.0, 0.3, 1060.0};
+const Material kSmMaterial{3000.0, 0.3, 1060.0};
 
 /// A 12 x 8 x 8 cm box of 6 x 4 x 4 cells: 175 vertices.
 const TetMesh& box() {
@@ -80,9 +79,9 @@ double diagonal_of(const TetMesh& mesh) {
 }
 
 /// The thesis's configuration (quadratic, alpha 0.72, beta 0.63) with `clusters`.
-Params thesis(int clusters, int particles_per_cluster = 96) {
-  Params params;
-  params.type = Params::Type::kQuadratic;
+ShapeMatchingParams thesis(int clusters, int particles_per_cluster = 96) {
+  ShapeMatchingParams params;
+  params.type = ShapeMatchingParams::Type::kQuadratic;
   params.clusters = clusters;
   params.particles_per_cluster = particles_per_cluster;
   params.alpha = 0.72;
@@ -108,19 +107,19 @@ double relative_volume_change(const TetMesh& mesh, const Eigen::Matrix3Xd& posit
 }
 
 /// Steps with no load from `start` (at rest there) until the shape and the volume are both
-/// within kRecovered; the time taken in s, or +inf if not within `max_time`.
+/// within kSmRecovered; the time taken in s, or +inf if not within `max_time`.
 double recovery_time(SoftBody& body,
                      const TetMesh& mesh,
                      const Eigen::Matrix3Xd& start,
                      double max_time) {
   place_at_rest(body, start);
   const StepInput input = no_gravity();
-  for (int step = 0; step * kDt <= max_time; ++step) {
-    if (rigid_fit_residual(mesh, body.positions()) < kRecovered
-        && relative_volume_change(mesh, body.positions()) < kRecovered) {
-      return step * kDt;
+  for (int step = 0; step * kSmDt <= max_time; ++step) {
+    if (rigid_fit_residual(mesh, body.positions()) < kSmRecovered
+        && relative_volume_change(mesh, body.positions()) < kSmRecovered) {
+      return step * kSmDt;
     }
-    if (!body.step(kDt, input).finite) {
+    if (!body.step(kSmDt, input).finite) {
       break;
     }
   }
@@ -287,14 +286,14 @@ TEST(RotationExtraction, DegenerateMatricesGiveRotations) {
 
 struct Mode {
   const char* name;
-  Params params;
+  ShapeMatchingParams params;
 };
 
 std::vector<Mode> modes() {
-  Params linear = thesis(1);
-  linear.type = Params::Type::kLinear;
-  Params clustered_linear = thesis(8, 40);
-  clustered_linear.type = Params::Type::kLinear;
+  ShapeMatchingParams linear = thesis(1);
+  linear.type = ShapeMatchingParams::Type::kLinear;
+  ShapeMatchingParams clustered_linear = thesis(8, 40);
+  clustered_linear.type = ShapeMatchingParams::Type::kLinear;
   std::vector<Mode> result{{"linear", linear},
                            {"quadratic", thesis(1)},
                            {"clusters_linear", clustered_linear},
@@ -302,9 +301,9 @@ std::vector<Mode> modes() {
   // The quaternion iteration, given enough iterations to converge within the two placing steps.
   for (std::size_t m = 0, count = result.size(); m < count; ++m) {
     Mode quaternion = result[m];
-    quaternion.params.rotation = Params::Rotation::kQuaternion;
+    quaternion.params.rotation = ShapeMatchingParams::Rotation::kQuaternion;
     quaternion.params.rotation_iterations = 100;
-    result[m].params.rotation = Params::Rotation::kSvd;
+    result[m].params.rotation = ShapeMatchingParams::Rotation::kSvd;
     quaternion.name = m == 0   ? "linear_quaternion"
                       : m == 1 ? "quadratic_quaternion"
                       : m == 2 ? "clusters_linear_quaternion"
@@ -321,12 +320,12 @@ void PrintTo(const Mode& mode, std::ostream* out) {
 class ShapeMatchingModes : public ::testing::TestWithParam<Mode> {};
 
 TEST_P(ShapeMatchingModes, ARigidMotionOfTheRestShapeIsPreserved) {
-  const auto body = make_shape_matching(box(), kMaterial, GetParam().params);
+  const auto body = make_shape_matching(box(), kSmMaterial, GetParam().params);
   const Eigen::Matrix3Xd moved = some_rigid_motion() * box().rest_positions();
   place_at_rest(*body, moved);
   ASSERT_EQ(body->positions(), moved);
   ASSERT_TRUE(body->velocities().isZero(0.0));
-  const StepStats stats = body->step(kDt, no_gravity());
+  const StepStats stats = body->step(kSmDt, no_gravity());
   ASSERT_TRUE(stats.finite);
   const double diagonal = diagonal_of(box());
   EXPECT_LT((body->positions() - moved).cwiseAbs().maxCoeff(), kStepRoundoff * diagonal);
@@ -334,9 +333,9 @@ TEST_P(ShapeMatchingModes, ARigidMotionOfTheRestShapeIsPreserved) {
 }
 
 TEST_P(ShapeMatchingModes, RestStaysAtRestUnderRepeatedSteps) {
-  const auto body = make_shape_matching(box(), kMaterial, GetParam().params);
+  const auto body = make_shape_matching(box(), kSmMaterial, GetParam().params);
   for (int step = 0; step < 50; ++step) {
-    ASSERT_TRUE(body->step(kDt, no_gravity()).finite);
+    ASSERT_TRUE(body->step(kSmDt, no_gravity()).finite);
   }
   EXPECT_LT((body->positions() - box().rest_positions()).cwiseAbs().maxCoeff(),
             kStepRoundoff * diagonal_of(box()));
@@ -366,35 +365,35 @@ Eigen::Matrix3Xd quadratically_deformed(const TetMesh& mesh,
 }
 
 TEST(ShapeMatching, QuadraticModeReproducesAPrescribedQuadraticDeformationExactly) {
-  Params params = thesis(1);
+  ShapeMatchingParams params = thesis(1);
   params.preserve_volume = false;  // the field changes the volume
   params.beta = 1.0;
   params.alpha = 1.0;
-  params.rotation = Params::Rotation::kSvd;
+  params.rotation = ShapeMatchingParams::Rotation::kSvd;
   // A bend, a twist and a bulge: a few cm over the 12 cm box, strongly non-rigid.
   Eigen::Matrix<double, 3, 9> field;
   field << 0.10, 0.05, 0.00, 0.0, 2.0, 0.0, 1.0, 0.0, -3.0,  //
       -0.05, 0.20, 0.10, 4.0, 0.0, 1.0, 0.0, 2.0, 0.0,       //
       0.00, 0.00, -0.10, 2.0, 3.0, 0.0, 0.0, 0.0, 5.0;
   const Eigen::Matrix3Xd deformed =
-      quadratically_deformed(box(), lumped_masses(box(), kMaterial.density), field);
+      quadratically_deformed(box(), lumped_masses(box(), kSmMaterial.density), field);
   ASSERT_GT(rigid_fit_residual(box(), deformed), 0.02);  // far from rigid
 
-  const auto body = make_shape_matching(box(), kMaterial, params);
+  const auto body = make_shape_matching(box(), kSmMaterial, params);
   place_at_rest(*body, deformed);
   // The goals are the positions: with alpha = 1 a free step lands every particle on its goal.
-  const StepStats stats = body->step(kDt, no_gravity());
+  const StepStats stats = body->step(kSmDt, no_gravity());
   EXPECT_LT(stats.residual, kStepRoundoff);
   EXPECT_LT((body->positions() - deformed).cwiseAbs().maxCoeff(),
             kStepRoundoff * diagonal_of(box()));
 }
 
 TEST(ShapeMatching, LinearModeReproducesAVolumePreservingLinearDeformationExactly) {
-  Params params = thesis(1);
-  params.type = Params::Type::kLinear;
+  ShapeMatchingParams params = thesis(1);
+  params.type = ShapeMatchingParams::Type::kLinear;
   params.beta = 1.0;
   params.alpha = 1.0;
-  params.rotation = Params::Rotation::kSvd;
+  params.rotation = ShapeMatchingParams::Rotation::kSvd;
   Eigen::Matrix3d shear;
   shear << 1.2, 0.3, 0.0,  //
       0.0, 1.0, -0.2,      //
@@ -403,22 +402,22 @@ TEST(ShapeMatching, LinearModeReproducesAVolumePreservingLinearDeformationExactl
   const Eigen::Vector3d centre = box().rest_positions().rowwise().mean();
   const Eigen::Matrix3Xd deformed =
       (shear * (box().rest_positions().colwise() - centre)).colwise() + centre;
-  const auto body = make_shape_matching(box(), kMaterial, params);
+  const auto body = make_shape_matching(box(), kSmMaterial, params);
   place_at_rest(*body, deformed);
-  body->step(kDt, no_gravity());
+  body->step(kSmDt, no_gravity());
   EXPECT_LT((body->positions() - deformed).cwiseAbs().maxCoeff(),
             kStepRoundoff * diagonal_of(box()));
 }
 
 TEST(ShapeMatching, QuadraticGoalsKeepTheClustersCentreOfMass) {
   // One cluster: sum m (g - x*) = 0, so the pull changes no linear momentum.
-  const auto body = make_shape_matching(box(), kMaterial, thesis(1));
-  const Eigen::VectorXd masses = lumped_masses(box(), kMaterial.density);
+  const auto body = make_shape_matching(box(), kSmMaterial, thesis(1));
+  const Eigen::VectorXd masses = lumped_masses(box(), kSmMaterial.density);
   place_at_rest(*body, random_in_bounding_box(box(), 7));
   const Eigen::Vector3d momentum_before = body->velocities() * masses;  // zero
-  body->step(kDt, no_gravity());
+  body->step(kSmDt, no_gravity());
   const Eigen::Vector3d momentum_after = body->velocities() * masses;
-  const double scale = masses.sum() * diagonal_of(box()) / kDt;  // kg m/s of a large motion
+  const double scale = masses.sum() * diagonal_of(box()) / kSmDt;  // kg m/s of a large motion
   EXPECT_LT((momentum_after - momentum_before).norm(), test::kRoundoff * scale);
 }
 
@@ -428,7 +427,7 @@ TEST(ShapeMatching, QuadraticGoalsKeepTheClustersCentreOfMass) {
 struct Recovery {
   const char* name;
   const TetMesh& (*mesh)();
-  Params params;
+  ShapeMatchingParams params;
   Eigen::Matrix3Xd (*start)(const TetMesh&);
   /// s: the time the test allows (the measured time, rounded up with some margin).
   double allowed;
@@ -447,16 +446,16 @@ class ShapeMatchingRecovery : public ::testing::TestWithParam<Recovery> {};
 TEST_P(ShapeMatchingRecovery, ReturnsToARigidPlacementOfTheRestShape) {
   const Recovery& recovery = GetParam();
   const TetMesh& mesh = recovery.mesh();
-  const auto body = make_shape_matching(mesh, kMaterial, recovery.params);
+  const auto body = make_shape_matching(mesh, kSmMaterial, recovery.params);
   const double time = recovery_time(*body, mesh, recovery.start(mesh), 10.0);
   EXPECT_LE(time, recovery.allowed) << recovery.name;
   RecordProperty("recovery_ms", static_cast<int>(std::lround(1000.0 * time)));
   // And it stays recovered.
   for (int step = 0; step < 120; ++step) {
-    body->step(kDt, no_gravity());
+    body->step(kSmDt, no_gravity());
   }
-  EXPECT_LT(rigid_fit_residual(mesh, body->positions()), kRecovered);
-  EXPECT_LT(relative_volume_change(mesh, body->positions()), kRecovered);
+  EXPECT_LT(rigid_fit_residual(mesh, body->positions()), kSmRecovered);
+  EXPECT_LT(relative_volume_change(mesh, body->positions()), kSmRecovered);
 }
 
 /// The times allowed. One cluster, thesis alpha and beta: the quadratic (linear) deformation
@@ -472,13 +471,13 @@ constexpr double kClustersRecovery = 1.0;
 constexpr double kThesisRecovery = 1.5;
 
 std::vector<Recovery> recoveries() {
-  Params linear = thesis(1);
-  linear.type = Params::Type::kLinear;
-  Params clustered = thesis(8, 48);
-  Params clustered_linear = clustered;
-  clustered_linear.type = Params::Type::kLinear;
-  Params thesis_linear = thesis(50);
-  thesis_linear.type = Params::Type::kLinear;
+  ShapeMatchingParams linear = thesis(1);
+  linear.type = ShapeMatchingParams::Type::kLinear;
+  ShapeMatchingParams clustered = thesis(8, 48);
+  ShapeMatchingParams clustered_linear = clustered;
+  clustered_linear.type = ShapeMatchingParams::Type::kLinear;
+  ShapeMatchingParams thesis_linear = thesis(50);
+  thesis_linear.type = ShapeMatchingParams::Type::kLinear;
   return {
       {"quadratic_from_random", box, thesis(1), random_start, kOneClusterRecovery},
       {"quadratic_from_mirrored", box, thesis(1), mirrored, kOneClusterRecovery},
@@ -512,9 +511,9 @@ TEST(ShapeMatching, IsStableAtHugeTimeSteps) {
   // alpha in (0, 1] never overshoots a goal: at dt = 100 s a wildly deformed body still
   // recovers, and under gravity with pins it stays finite and bounded.
   for (const double alpha : {0.72, 1.0}) {
-    Params params = thesis(8, 48);
+    ShapeMatchingParams params = thesis(8, 48);
     params.alpha = alpha;
-    const auto body = make_shape_matching(box(), kMaterial, params);
+    const auto body = make_shape_matching(box(), kSmMaterial, params);
     place_at_rest(*body, random_in_bounding_box(box(), 11));
     const double start = rigid_fit_residual(box(), body->positions());
     constexpr double kHugeDt = 100.0;
@@ -523,7 +522,7 @@ TEST(ShapeMatching, IsStableAtHugeTimeSteps) {
       ASSERT_TRUE(stats.finite) << "step " << step;
       ASSERT_LE(rigid_fit_residual(box(), body->positions()), 2.0 * start) << "step " << step;
     }
-    EXPECT_LT(rigid_fit_residual(box(), body->positions()), kRecovered) << alpha;
+    EXPECT_LT(rigid_fit_residual(box(), body->positions()), kSmRecovered) << alpha;
 
     body->reset();
     const std::vector<PositionConstraint> pins = pin_min_x_face(box());
@@ -542,13 +541,13 @@ TEST(ShapeMatching, IsStableAtHugeTimeSteps) {
 // Constraints
 
 TEST(ShapeMatching, PinnedVerticesNeverMove) {
-  for (const Params& params : {thesis(1), thesis(8, 48)}) {
-    const auto body = make_shape_matching(box(), kMaterial, params);
+  for (const ShapeMatchingParams& params : {thesis(1), thesis(8, 48)}) {
+    const auto body = make_shape_matching(box(), kSmMaterial, params);
     const std::vector<PositionConstraint> pins = pin_min_x_face(box());
     StepInput input;
     input.constraints = pins;
     for (int step = 0; step < 120; ++step) {
-      const StepStats stats = body->step(kDt, input);
+      const StepStats stats = body->step(kSmDt, input);
       ASSERT_TRUE(stats.finite);
       EXPECT_EQ(stats.max_constraint_error, 0.0);
       for (const PositionConstraint& pin : pins) {
@@ -565,14 +564,14 @@ TEST(ShapeMatching, ExactlyConstrainedParticlesDragTheirClusters) {
   // The pinned face jumps 2 cm along +y and is held there: the matching sees the pins at their
   // targets, and they anchor their clusters, so the free particles move along in the same step,
   // and the whole body follows.
-  for (const Params& params : {thesis(1), thesis(8, 48)}) {
-    const auto body = make_shape_matching(box(), kMaterial, params);
+  for (const ShapeMatchingParams& params : {thesis(1), thesis(8, 48)}) {
+    const auto body = make_shape_matching(box(), kSmMaterial, params);
     std::vector<PositionConstraint> pins = pin_min_x_face(box());
     const Eigen::Vector3d shift(0.0, 0.02, 0.0);
     for (PositionConstraint& pin : pins) {
       pin.target += shift;
     }
-    body->step(kDt, no_gravity(pins));
+    body->step(kSmDt, no_gravity(pins));
     double free_motion = 0.0;  // mean y motion of the free particles
     int free_count = 0;
     for (int v = 0; v < box().num_vertices(); ++v) {
@@ -585,7 +584,7 @@ TEST(ShapeMatching, ExactlyConstrainedParticlesDragTheirClusters) {
     // The clusters the pins belong to are placed by them at once; the others follow through
     // the particles they share with those, over the following steps.
     for (int step = 0; step < 900; ++step) {
-      body->step(kDt, no_gravity(pins));
+      body->step(kSmDt, no_gravity(pins));
     }
     const Eigen::Vector3d mean_motion =
         (body->positions() - box().rest_positions()).rowwise().mean();
@@ -601,18 +600,18 @@ TEST(ShapeMatching, ReactionsAreWhatTheBodysMomentumChangeNeeds) {
   // in the clusters holding no pin: each cluster's fit conserves momentum, but a particle in
   // several clusters goes to the mean of their goals, which does not (at rest the reactions
   // balance the weight to 1e-6, as the contract suite checks for every model).
-  const auto body = make_shape_matching(box(), kMaterial, thesis(8, 48));
-  const Eigen::VectorXd masses = lumped_masses(box(), kMaterial.density);
+  const auto body = make_shape_matching(box(), kSmMaterial, thesis(8, 48));
+  const Eigen::VectorXd masses = lumped_masses(box(), kSmMaterial.density);
   const std::vector<PositionConstraint> pins = pin_min_x_face(box());
   StepInput input;
   input.constraints = pins;
   for (int step = 0; step < 30; ++step) {
-    body->step(kDt, input);
+    body->step(kSmDt, input);
   }
   const Eigen::Matrix3Xd velocities = body->velocities();
-  body->step(kDt, input);
+  body->step(kSmDt, input);
   const Eigen::Matrix3Xd forces = body->constraint_forces();
-  const Eigen::Vector3d momentum_change = (body->velocities() - velocities) * masses / kDt;
+  const Eigen::Vector3d momentum_change = (body->velocities() - velocities) * masses / kSmDt;
   const Eigen::Vector3d weight = masses.sum() * input.gravity;
   const Eigen::Vector3d reactions = forces.rowwise().sum();
   EXPECT_LT((reactions + weight - momentum_change).norm(), 0.08 * weight.norm())
@@ -629,13 +628,13 @@ TEST(ShapeMatching, ReactionsAreWhatTheBodysMomentumChangeNeeds) {
 }
 
 TEST(ShapeMatching, PenaltyConstraintsPullTowardTheirTargetAndReportTheirError) {
-  const auto body = make_shape_matching(box(), kMaterial, thesis(1));
+  const auto body = make_shape_matching(box(), kSmMaterial, thesis(1));
   constexpr int kVertex = 0;
   const Eigen::Vector3d target = box().rest_positions().col(kVertex) + Eigen::Vector3d(0, 0, 0.03);
   const std::vector<PositionConstraint> spring{{kVertex, target, 500.0}};
   StepStats stats;
   for (int step = 0; step < 60; ++step) {
-    stats = body->step(kDt, no_gravity(spring));
+    stats = body->step(kSmDt, no_gravity(spring));
     ASSERT_TRUE(stats.finite);
   }
   const double error = (body->positions().col(kVertex) - target).norm();
@@ -664,9 +663,9 @@ const TetMesh& bar() {
 /// of its length, and its volume change at the end: thesis(clusters, per_cluster) with
 /// `passes` match-and-pull passes per step.
 std::pair<double, double> hanging_bar(int clusters, int per_cluster, int passes) {
-  Params params = thesis(clusters, per_cluster);
+  ShapeMatchingParams params = thesis(clusters, per_cluster);
   params.iterations = passes;
-  const auto body = make_shape_matching(bar(), kMaterial, params);
+  const auto body = make_shape_matching(bar(), kSmMaterial, params);
   const Eigen::Matrix3Xd& rest = bar().rest_positions();
   const double top = rest.row(2).maxCoeff();
   StepInput input;
@@ -679,7 +678,7 @@ std::pair<double, double> hanging_bar(int clusters, int per_cluster, int passes)
   input.constraints = pins;
   double longest = 0.0;
   for (int step = 0; step < 300; ++step) {
-    EXPECT_TRUE(body->step(kDt, input).finite) << "step " << step;
+    EXPECT_TRUE(body->step(kSmDt, input).finite) << "step " << step;
     longest = std::max(longest, top - body->positions().row(2).minCoeff());
   }
   return {longest / 0.20, relative_volume_change(bar(), body->positions())};
@@ -693,7 +692,7 @@ TEST(ShapeMatching, ABarHangingFromItsPinnedTopKeepsItsLength) {
   // the cluster only through their share of its mass, the bar sank until that share balanced
   // its weight: 2.8x its length at the peak, 2.1x after 5 s.
   constexpr double kStretchTolerance = 0.05;
-  for (const int passes : {1, Params{}.iterations}) {
+  for (const int passes : {1, ShapeMatchingParams{}.iterations}) {
     const auto [stretch, volume] = hanging_bar(1, 96, passes);
     EXPECT_LT(stretch, 1.0 + kStretchTolerance) << passes << " passes";
     EXPECT_GT(stretch, 1.0) << passes << " passes";  // it does hang: the goals keep some stretch
@@ -729,24 +728,24 @@ TEST(ShapeMatching, VolumeKeepingGoalsTakeTheStretchOutOfAStretchedCluster) {
   Eigen::Matrix3Xd stretched = box().rest_positions();
   stretched.row(0) *= 1.3;
   for (const bool keep : {true, false}) {
-    Params params = thesis(1);
+    ShapeMatchingParams params = thesis(1);
     params.alpha = 1.0;
     params.beta = 1.0;
     params.iterations = 1;
-    params.rotation = Params::Rotation::kSvd;
+    params.rotation = ShapeMatchingParams::Rotation::kSvd;
     params.preserve_volume = keep;
-    const auto body = make_shape_matching(box(), kMaterial, params);
+    const auto body = make_shape_matching(box(), kSmMaterial, params);
     place_at_rest(*body, stretched);
-    ASSERT_TRUE(body->step(kDt, no_gravity()).finite);
+    ASSERT_TRUE(body->step(kSmDt, no_gravity()).finite);
     const double volume = mesh_volume(box(), body->positions()) / mesh_volume(box());
     EXPECT_NEAR(volume, keep ? 1.0 : 1.3, 1e-9) << "preserve_volume " << keep;
   }
 }
 
 /// A matcher on box()'s rest shape and lumped masses, with box() clustered as `params` asks.
-shape_matching::ClusterMatcher box_matcher(const Params& params) {
+shape_matching::ClusterMatcher box_matcher(const ShapeMatchingParams& params) {
   const Eigen::Matrix3Xd& rest = box().rest_positions();
-  return {rest, lumped_masses(box(), kMaterial.density),
+  return {rest, lumped_masses(box(), kSmMaterial.density),
           shape_matching::build_clusters(
               rest, {params.clusters, params.cluster_radius, params.particles_per_cluster}),
           params};
@@ -822,7 +821,7 @@ TEST(ShapeMatchingHeld, EachClusterPutsAHeldParticlesGoalOnIt) {
     }
     for (const HeldSet& set : held_sets()) {
       for (const int iterations : {2, 100}) {
-        Params params = mode.params;
+        ShapeMatchingParams params = mode.params;
         params.rotation_iterations = iterations;
         shape_matching::ClusterMatcher matcher = box_matcher(params);
         matcher.hold(set.vertices);
@@ -881,9 +880,9 @@ TEST(ShapeMatchingHeld, HoldingReleasingAndHoldingAgainMatchesAFreshHold) {
   // drop their data when none is left, reuse it later): after any sequence of holds a matcher
   // holds its last set exactly as a fresh one does, bit for bit.
   const std::vector<HeldSet> sets = held_sets();
-  for (const Params& params : {thesis(8, 48), [] {
-         Params linear = thesis(8, 48);
-         linear.type = Params::Type::kLinear;
+  for (const ShapeMatchingParams& params : {thesis(8, 48), [] {
+         ShapeMatchingParams linear = thesis(8, 48);
+         linear.type = ShapeMatchingParams::Type::kLinear;
          return linear;
        }()}) {
     shape_matching::ClusterMatcher changed = box_matcher(params);
@@ -912,27 +911,27 @@ TEST(ShapeMatchingHeld, ABodyHoldingReleasingAndHoldingAgainStepsAsAFreshOne) {
   // held, released and held again a vertex (and had its face pinned in between) steps as a
   // fresh body holding it. With the SVD no warm start carries over; what differs is round-off
   // (the clusters' reference points).
-  Params params = thesis(8, 48);
-  params.rotation = Params::Rotation::kSvd;
+  ShapeMatchingParams params = thesis(8, 48);
+  params.rotation = ShapeMatchingParams::Rotation::kSvd;
   const std::vector<PositionConstraint> face = pin_min_x_face(box());
   const Eigen::Vector3d target = box().rest_positions().col(87) + Eigen::Vector3d(0, 0, 0.01);
   const std::vector<PositionConstraint> grasp{{87, target, kExact}};
-  const auto changed = make_shape_matching(box(), kMaterial, params);
+  const auto changed = make_shape_matching(box(), kSmMaterial, params);
   StepInput input;
   for (const auto& constraints : {grasp, std::vector<PositionConstraint>{}, face, grasp}) {
     input.constraints = constraints;
     for (int step = 0; step < 5; ++step) {
-      ASSERT_TRUE(changed->step(kDt, input).finite);
+      ASSERT_TRUE(changed->step(kSmDt, input).finite);
     }
   }
   const Eigen::Matrix3Xd positions = changed->positions();
   const Eigen::Matrix3Xd velocities = changed->velocities();
-  const auto fresh = make_shape_matching(box(), kMaterial, params);
+  const auto fresh = make_shape_matching(box(), kSmMaterial, params);
   fresh->set_state(positions, velocities);
   changed->set_state(positions, velocities);
   input.constraints = grasp;
-  ASSERT_TRUE(changed->step(kDt, input).finite);
-  ASSERT_TRUE(fresh->step(kDt, input).finite);
+  ASSERT_TRUE(changed->step(kSmDt, input).finite);
+  ASSERT_TRUE(fresh->step(kSmDt, input).finite);
   EXPECT_LT((changed->positions() - fresh->positions()).cwiseAbs().maxCoeff(),
             kStepRoundoff * diagonal_of(box()));
   EXPECT_TRUE(changed->constraint_forces().isApprox(fresh->constraint_forces(), 1e-9));
@@ -945,11 +944,11 @@ TEST(ShapeMatchingHeld, OnlyAnchoringFullHoldsAreKinematicInTheFits) {
   // rotations.
   const int corner = 0;
   for (const bool anchors : {true, false}) {
-    const auto body = make_shape_matching(box(), kMaterial, thesis(8, 48));
+    const auto body = make_shape_matching(box(), kSmMaterial, thesis(8, 48));
     const Eigen::Vector3d target = box().rest_positions().col(corner) + Eigen::Vector3d(0, 0, 1e-3);
     const std::vector<PositionConstraint> holds = {
         {corner, target, kExact, Eigen::Matrix3d::Identity(), anchors}};
-    ASSERT_TRUE(body->step(kDt, no_gravity(holds)).finite);
+    ASSERT_TRUE(body->step(kSmDt, no_gravity(holds)).finite);
     const auto& model = dynamic_cast<const ShapeMatchingModel&>(*body);
     EXPECT_EQ(model.matcher().is_held(corner), anchors);
     EXPECT_EQ(body->positions().col(corner), target);  // held exactly either way
@@ -974,13 +973,13 @@ TEST(ShapeMatchingHeld, ASlidingHoldDoesNotAnchorWhatItLeavesFree) {
       push(0, v) = 0.01;  // N
     }
   }
-  const auto body = make_shape_matching(box(), kMaterial, thesis(8, 48));
+  const auto body = make_shape_matching(box(), kSmMaterial, thesis(8, 48));
   StepInput input = no_gravity(floor);
   input.external_forces = &push;
   double largest_reaction_x = 0.0;
   constexpr int kSteps = 60;
   for (int step = 0; step < kSteps; ++step) {
-    ASSERT_TRUE(body->step(kDt, input).finite);
+    ASSERT_TRUE(body->step(kSmDt, input).finite);
     largest_reaction_x =
         std::max(largest_reaction_x, body->constraint_forces().row(0).cwiseAbs().maxCoeff());
   }
@@ -1009,9 +1008,9 @@ TEST(ShapeMatchingHeld, AGraspStretchingTheBoxFeelsItsTension) {
       ends.push_back({v, rest.col(v) + Eigen::Vector3d(0.005, 0, 0), kExact});
     }
   }
-  const auto body = make_shape_matching(box(), kMaterial, thesis(8, 48));
+  const auto body = make_shape_matching(box(), kSmMaterial, thesis(8, 48));
   for (int step = 0; step < 600; ++step) {
-    ASSERT_TRUE(body->step(kDt, no_gravity(ends)).finite);
+    ASSERT_TRUE(body->step(kSmDt, no_gravity(ends)).finite);
   }
   Eigen::Vector3d low = Eigen::Vector3d::Zero();
   Eigen::Vector3d high = Eigen::Vector3d::Zero();
@@ -1036,10 +1035,10 @@ TEST(ShapeMatching, GivesTheSameResultOnOneAndTwoThreads) {
   input.constraints = pins;
   const auto run = [&](int threads) {
     omp_set_num_threads(threads);
-    const auto body = make_shape_matching(big_box(), kMaterial, thesis(kParallelClusters));
+    const auto body = make_shape_matching(big_box(), kSmMaterial, thesis(kParallelClusters));
     place_at_rest(*body, random_in_bounding_box(big_box(), 3));
     for (int step = 0; step < 30; ++step) {
-      body->step(kDt, input);
+      body->step(kSmDt, input);
     }
     return Eigen::Matrix3Xd(body->positions());
   };
@@ -1052,46 +1051,46 @@ TEST(ShapeMatching, GivesTheSameResultOnOneAndTwoThreads) {
 
 TEST(ShapeMatching, ManyClustersOnTheBigBoxRunInParallelAndTheThesisLiverSizeDoesNot) {
   // Guards the determinism test above: it must exercise the parallel path.
-  const auto many = make_shape_matching(big_box(), kMaterial, thesis(kParallelClusters));
+  const auto many = make_shape_matching(big_box(), kSmMaterial, thesis(kParallelClusters));
   EXPECT_TRUE(dynamic_cast<const ShapeMatchingModel&>(*many).matcher().worth_parallel());
   // The thesis's 50 clusters on a body this size: too little work to split (see
   // ClusterMatcher::worth_parallel).
-  const auto few = make_shape_matching(big_box(), kMaterial, thesis(50));
+  const auto few = make_shape_matching(big_box(), kSmMaterial, thesis(50));
   EXPECT_FALSE(dynamic_cast<const ShapeMatchingModel&>(*few).matcher().worth_parallel());
 }
 
 TEST(ShapeMatching, ReportsRotationIterationsAndTheResidual) {
-  Params params = thesis(8, 48);
+  ShapeMatchingParams params = thesis(8, 48);
   params.rotation_iterations = 3;
-  const auto body = make_shape_matching(box(), kMaterial, params);
-  const StepStats rest = body->step(kDt, no_gravity());
+  const auto body = make_shape_matching(box(), kSmMaterial, params);
+  const StepStats rest = body->step(kSmDt, no_gravity());
   EXPECT_EQ(rest.iterations, 0);  // at rest every rotation is I already
   EXPECT_LT(rest.residual, kStepRoundoff);
   place_at_rest(*body, random_in_bounding_box(box(), 5));
   // Placing holds every particle, and a cluster's held particles give it its exact rotation,
   // so the first free step starts from converged rotations; as the body then moves toward its
   // goals its rotations change, and the iteration follows them.
-  const StepStats deformed = body->step(kDt, no_gravity());
+  const StepStats deformed = body->step(kSmDt, no_gravity());
   EXPECT_GT(deformed.residual, 0.01);
   EXPECT_LE(deformed.iterations, 3);
-  const StepStats moving = body->step(kDt, no_gravity());
+  const StepStats moving = body->step(kSmDt, no_gravity());
   EXPECT_GT(moving.iterations, 0);
   EXPECT_LE(moving.iterations, 3);
-  params.rotation = Params::Rotation::kSvd;
-  EXPECT_EQ(make_shape_matching(box(), kMaterial, params)->step(kDt, no_gravity()).iterations, 0);
+  params.rotation = ShapeMatchingParams::Rotation::kSvd;
+  EXPECT_EQ(make_shape_matching(box(), kSmMaterial, params)->step(kSmDt, no_gravity()).iterations, 0);
 }
 
 TEST(ShapeMatching, HasNoElasticEnergy) {
-  EXPECT_TRUE(std::isnan(make_shape_matching(box(), kMaterial, thesis(1))->elastic_energy()));
+  EXPECT_TRUE(std::isnan(make_shape_matching(box(), kSmMaterial, thesis(1))->elastic_energy()));
 }
 
 TEST(ShapeMatching, ResetForgetsTheWarmStarts) {
   // After reset() a run repeats exactly: the rotations start from I again.
-  const auto body = make_shape_matching(box(), kMaterial, thesis(8, 48));
+  const auto body = make_shape_matching(box(), kSmMaterial, thesis(8, 48));
   const auto run = [&] {
     place_at_rest(*body, some_rigid_motion() * box().rest_positions());
     for (int step = 0; step < 10; ++step) {
-      body->step(kDt, StepInput{});
+      body->step(kSmDt, StepInput{});
     }
     return Eigen::Matrix3Xd(body->positions());
   };
@@ -1102,8 +1101,8 @@ TEST(ShapeMatching, ResetForgetsTheWarmStarts) {
 }
 
 TEST(ShapeMatching, ReportsTheMemoryItHolds) {
-  const auto small = make_shape_matching(box(), kMaterial, thesis(8, 48));
-  const auto large = make_shape_matching(box(), kMaterial, thesis(8, 96));
+  const auto small = make_shape_matching(box(), kSmMaterial, thesis(8, 48));
+  const auto large = make_shape_matching(box(), kSmMaterial, thesis(8, 96));
   // At least the quadratic basis: 9 doubles per membership.
   const auto& model = dynamic_cast<const ShapeMatchingModel&>(*small);
   EXPECT_GT(small->memory_bytes(), 9 * sizeof(double) * model.matcher().num_memberships());
@@ -1117,7 +1116,7 @@ TEST(ShapeMatching, ReportsTheMemoryItHolds) {
 std::unique_ptr<SoftBody> create(const std::string& json) {
   return builtin_models()
       .at("shape_matching")
-      .create(box(), kMaterial, nlohmann::json::parse(json),
+      .create(box(), kSmMaterial, nlohmann::json::parse(json),
               {"scene.json", "/models/shape_matching"});
 }
 
@@ -1153,12 +1152,12 @@ TEST(ShapeMatchingParams, OutOfRangeAndMistypedValuesAreRejected) {
 }
 
 TEST(ShapeMatchingParams, DirectConstructionRejectsInvalidParametersAndMaterial) {
-  Params params;
+  ShapeMatchingParams params;
   params.alpha = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_THROW(make_shape_matching(box(), kMaterial, params), InputError);
-  EXPECT_THROW(make_shape_matching(box(), Material{3000.0, 0.3, -1.0}, Params{}), InputError);
+  EXPECT_THROW(make_shape_matching(box(), kSmMaterial, params), InputError);
+  EXPECT_THROW(make_shape_matching(box(), Material{3000.0, 0.3, -1.0}, ShapeMatchingParams{}), InputError);
   // E and nu play no part, but a scene's material is still validated as a whole.
-  EXPECT_THROW(make_shape_matching(box(), Material{3000.0, 0.5, 1060.0}, Params{}), InputError);
+  EXPECT_THROW(make_shape_matching(box(), Material{3000.0, 0.5, 1060.0}, ShapeMatchingParams{}), InputError);
 }
 
 TEST(ShapeMatchingParams, RegistryListsEveryParameterWithItsDefault) {

@@ -25,8 +25,8 @@ const TetMesh& block() {
   return mesh;
 }
 
-const Material kMaterial{3000.0, 0.3, 1060.0};
-constexpr double kDt = 1.0 / 60.0;
+const Material kSlidingMaterial{3000.0, 0.3, 1060.0};
+constexpr double kSlidingDt = 1.0 / 60.0;
 const Eigen::Vector3d kUp(0.0, 0.0, 1.0);
 
 /// Every vertex of the face z = `z` of the block on the plane z = `height`, held along z only
@@ -56,7 +56,7 @@ TEST_P(SlidingConstraint, ABodyGlidesAlongAFrictionlessFloor) {
     params[key] = 0.0;
   }
   const std::unique_ptr<SoftBody> body =
-      builtin_models().at(GetParam()).create(block(), kMaterial, params, ParamSource{});
+      builtin_models().at(GetParam()).create(block(), kSlidingMaterial, params, ParamSource{});
   const Eigen::Vector3d velocity(0.3, -0.2, 0.0);  // m/s, along the floor
   body->set_velocities(velocity.replicate(1, block().num_vertices()));
   const std::vector<PositionConstraint> floor = plate(0.0, 0.0, /*slide=*/true);
@@ -65,14 +65,14 @@ TEST_P(SlidingConstraint, ABodyGlidesAlongAFrictionlessFloor) {
   input.constraints = floor;
   constexpr int kSteps = 30;
   for (int step = 0; step < kSteps; ++step) {
-    ASSERT_TRUE(body->step(kDt, input).finite) << "step " << step;
+    ASSERT_TRUE(body->step(kSlidingDt, input).finite) << "step " << step;
     for (const PositionConstraint& c : floor) {
       ASSERT_NEAR(body->positions()(2, c.vertex), 0.0, 1e-12) << "vertex " << c.vertex;
     }
   }
   // A floor that held its vertices where they were (sticking) would keep them 15 cm behind.
   const Eigen::Matrix3Xd expected =
-      block().rest_positions().colwise() + kSteps * kDt * velocity;
+      block().rest_positions().colwise() + kSteps * kSlidingDt * velocity;
   EXPECT_LT((body->positions() - expected).colwise().norm().maxCoeff(), 1e-6);
   EXPECT_LT(body->constraint_forces().colwise().norm().maxCoeff(), 1e-9);
 }
@@ -95,7 +95,7 @@ struct Compression {
 /// the model's settling damping.
 Compression compress(const std::string& model, double strain, bool slide) {
   const std::unique_ptr<SoftBody> body = builtin_models().at(model).create(
-      block(), kMaterial, builtin_models().at(model).settling_damping, ParamSource{});
+      block(), kSlidingMaterial, builtin_models().at(model).settling_damping, ParamSource{});
   const double height = 0.04;
   std::vector<PositionConstraint> plates = plate(0.0, 0.0, slide);
   const std::vector<PositionConstraint> top = plate(height, height * (1.0 - strain), slide);
@@ -105,7 +105,7 @@ Compression compress(const std::string& model, double strain, bool slide) {
   input.gravity.setZero();
   input.constraints = plates;
   for (int step = 0; step < 300; ++step) {  // 5 s: at rest to 1e-6 of the force
-    EXPECT_TRUE(body->step(kDt, input).finite);
+    EXPECT_TRUE(body->step(kSlidingDt, input).finite);
   }
   const Eigen::Matrix3Xd forces = body->constraint_forces();
   Compression result;
@@ -133,14 +133,14 @@ TEST(SlidingPlates, SqueezeABlockToTheUniaxialAnswer) {
   // (1.5% allowed).
   constexpr double kStrain = 0.01;
   const double area = 0.08 * 0.08;
-  const double uniaxial = kMaterial.young_modulus * area * kStrain;
+  const double uniaxial = kSlidingMaterial.young_modulus * area * kStrain;
   for (const auto& [model, tolerance] :
        std::vector<std::pair<std::string, double>>{{"corotational_fem", 1e-3},
                                                    {"neo_hookean", 1.5e-2}}) {
     const Compression sliding = compress(model, kStrain, /*slide=*/true);
     EXPECT_NEAR(sliding.force / uniaxial, 1.0, tolerance) << model;
     EXPECT_NEAR(sliding.bottom_force / uniaxial, 1.0, tolerance) << model;
-    EXPECT_NEAR(sliding.lateral_strain / (kMaterial.poisson_ratio * kStrain), 1.0,
+    EXPECT_NEAR(sliding.lateral_strain / (kSlidingMaterial.poisson_ratio * kStrain), 1.0,
                 10.0 * tolerance)
         << model;
     EXPECT_LT(sliding.tangential, 1e-12 * uniaxial) << model;
@@ -151,7 +151,7 @@ TEST(SlidingPlates, SqueezeABlockToTheUniaxialAnswer) {
                                     std::to_string(sliding.force / uniaxial));
     ::testing::Test::RecordProperty(model + "_lateral_strain_over_nu_strain",
                                     std::to_string(sliding.lateral_strain
-                                                   / (kMaterial.poisson_ratio * kStrain)));
+                                                   / (kSlidingMaterial.poisson_ratio * kStrain)));
     ::testing::Test::RecordProperty(model + "_sticking_force_over_uniaxial",
                                     std::to_string(sticking.force / uniaxial));
     EXPECT_GT(sticking.force / uniaxial, 1.05) << model;

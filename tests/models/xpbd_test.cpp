@@ -33,12 +33,12 @@ using test::pin_all;
 using test::pin_min_x_face;
 
 /// The thesis's liver material.
-const Material kMaterial{3000.0, 0.3, 1060.0};
-constexpr double kDt = 1.0 / 60.0;
+const Material kXpbdMaterial{3000.0, 0.3, 1060.0};
+constexpr double kXpbdDt = 1.0 / 60.0;
 
 /// The linear-elastic stress of the material for a displacement gradient H (Pa per unit H).
 Eigen::Matrix3d linear_stress(const Eigen::Matrix3d& displacement_gradient) {
-  const LameParameters lame = lame_parameters(kMaterial);
+  const LameParameters lame = lame_parameters(kXpbdMaterial);
   return lame.mu * (displacement_gradient + displacement_gradient.transpose())
          + lame.lambda * displacement_gradient.trace() * Eigen::Matrix3d::Identity();
 }
@@ -66,7 +66,7 @@ TEST(XpbdConstraints, AreTheReferencesStableNeoHookeanEnergy) {
   // mu C_D dC_D/dF + lambda C_H dC_H/dF is its stress, at large and inverted deformations too.
   // Both sides are a few dozen flops on O(1) values: round-off, asserted at 1e-12 of mu.
   const neo_hookean::StableNeoHookean law =
-      neo_hookean::stable_neo_hookean(lame_parameters(kMaterial));
+      neo_hookean::stable_neo_hookean(lame_parameters(kXpbdMaterial));
   const auto constraint_energy = [&](const Eigen::Matrix3d& f) {
     const double invariant = f.squaredNorm();
     const double deviatoric = std::sqrt(invariant - std::log1p(invariant));
@@ -105,10 +105,10 @@ TEST(Xpbd, HeldAtASmallStrainTheHoldsCarryTheLinearElasticForces) {
   for (const Eigen::Matrix3d& h : random_gradients(3, 11)) {
     const Eigen::Matrix3d f = Eigen::Matrix3d::Identity() + kEps * h;
     const Eigen::Matrix3Xd x = f * mesh.rest_positions();
-    auto body = make_xpbd(mesh, kMaterial, {});
+    auto body = make_xpbd(mesh, kXpbdMaterial, {});
     test::place_at_rest(*body, x);
     const std::vector<PositionConstraint> pins = pin_all(x);
-    ASSERT_TRUE(body->step(kDt, no_gravity(pins)).finite);
+    ASSERT_TRUE(body->step(kXpbdDt, no_gravity(pins)).finite);
 
     Eigen::Matrix3Xd expected = Eigen::Matrix3Xd::Zero(3, mesh.num_vertices());
     const Eigen::Matrix3d sigma = kEps * linear_stress(h);
@@ -158,7 +158,7 @@ double reference_sag() {
   input.gravity = Eigen::Vector3d(0.0, 0.0, -kSagGravity);
   input.constraints = clamp;
   auto body = builtin_models().at("neo_hookean").create(
-      mesh, kMaterial, nlohmann::json{{"tolerance", 1e-10}}, ParamSource{});
+      mesh, kXpbdMaterial, nlohmann::json{{"tolerance", 1e-10}}, ParamSource{});
   // Backward Euler with a step so long that inertia is negligible: a static solve.
   for (int step = 0; step < 5; ++step) {
     EXPECT_TRUE(body->step(1e3, input).finite);
@@ -177,17 +177,17 @@ double xpbd_sag(int substeps) {
   XpbdParams params;
   params.substeps = substeps;
   params.mass_damping = 5.0;  // 1/s, about critical for the beam's first bending mode
-  auto body = make_xpbd(mesh, kMaterial, params);
+  auto body = make_xpbd(mesh, kXpbdMaterial, params);
   int step = 0;
   for (; step < 6000; ++step) {
-    EXPECT_TRUE(body->step(kDt, input).finite);
+    EXPECT_TRUE(body->step(kXpbdDt, input).finite);
     if (step > 10 && body->velocities().cwiseAbs().maxCoeff() < 1e-9) {
       break;
     }
   }
   EXPECT_LT(step, 6000) << "not at rest with " << substeps << " substeps";
   // At rest the clamp carries the weight (momentum balance over each substep).
-  const double weight = kMaterial.density * mesh_volume(mesh) * kSagGravity;
+  const double weight = kXpbdMaterial.density * mesh_volume(mesh) * kSagGravity;
   EXPECT_NEAR(body->constraint_forces().row(2).sum(), weight, 1e-6 * weight);
   return tip_sag(body->positions());
 }
@@ -226,15 +226,15 @@ TEST(Xpbd, ARigidTranslationVelocityMovesEveryVertexByVDt) {
     XpbdParams params;
     params.substeps = substeps;
     params.iterations = iterations;
-    xpbd::XpbdModel body(mesh, kMaterial, params);
+    xpbd::XpbdModel body(mesh, kXpbdMaterial, params);
     body.set_velocities(velocity.replicate(1, mesh.num_vertices()));
     for (int step = 0; step < 5; ++step) {
-      const StepStats stats = body.step(kDt, no_gravity());
+      const StepStats stats = body.step(kXpbdDt, no_gravity());
       ASSERT_TRUE(stats.finite);
       // (One substep is above the stability bound here: the step takes 2.)
-      EXPECT_EQ(stats.iterations, body.substeps_for(kDt) * iterations);
+      EXPECT_EQ(stats.iterations, body.substeps_for(kXpbdDt) * iterations);
     }
-    const Eigen::Matrix3Xd expected = mesh.rest_positions().colwise() + 5 * kDt * velocity;
+    const Eigen::Matrix3Xd expected = mesh.rest_positions().colwise() + 5 * kXpbdDt * velocity;
     EXPECT_LT((body.positions() - expected).cwiseAbs().maxCoeff(), 1e-14)
         << substeps << " x " << iterations;
     EXPECT_LT((body.velocities().colwise() - velocity).cwiseAbs().maxCoeff(), 1e-12)
@@ -249,13 +249,13 @@ TEST(Xpbd, RecoversFromAMirroredStart) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(3, 2, 2, 0.12, 0.08, 0.08));
   XpbdParams params;
   params.mass_damping = 5.0;
-  auto body = make_xpbd(mesh, kMaterial, params);
+  auto body = make_xpbd(mesh, kXpbdMaterial, params);
   Eigen::Matrix3Xd mirrored = mesh.rest_positions();
   mirrored.row(2) = (0.08 - mirrored.row(2).array()).matrix();
   ASSERT_EQ(count_inverted_tets(mesh, mirrored), mesh.num_tets());
   body->set_state(mirrored, Eigen::Matrix3Xd::Zero(3, mesh.num_vertices()));
   for (int step = 0; step < 120; ++step) {
-    ASSERT_TRUE(body->step(kDt, no_gravity()).finite) << "step " << step;
+    ASSERT_TRUE(body->step(kXpbdDt, no_gravity()).finite) << "step " << step;
   }
   EXPECT_EQ(count_inverted_tets(mesh, body->positions()), 0);
   // And back near its rest shape (up to a rigid motion): volume within 1%.
@@ -277,17 +277,17 @@ TEST(Xpbd, AStiffBodyTakesTheSubstepsItsStabilityNeedsAndStaysAtRest) {
   }
   const Material stiff{1e7, 0.3, 1000.0};
   xpbd::XpbdModel body(mesh, stiff, XpbdParams{});
-  EXPECT_GT(body.substeps_for(kDt), 100);
-  EXPECT_EQ(body.substeps_for(kDt / 1000.0), XpbdParams{}.substeps);
+  EXPECT_GT(body.substeps_for(kXpbdDt), 100);
+  EXPECT_EQ(body.substeps_for(kXpbdDt / 1000.0), XpbdParams{}.substeps);
   body.set_state(perturbed, Eigen::Matrix3Xd::Zero(3, mesh.num_vertices()));
   for (int step = 0; step < 20; ++step) {
-    const StepStats stats = body.step(kDt, no_gravity());
+    const StepStats stats = body.step(kXpbdDt, no_gravity());
     ASSERT_TRUE(stats.finite);
-    EXPECT_EQ(stats.iterations, body.substeps_for(kDt));
+    EXPECT_EQ(stats.iterations, body.substeps_for(kXpbdDt));
   }
   EXPECT_LT((body.positions() - mesh.rest_positions()).cwiseAbs().maxCoeff(), 5e-9);
   const xpbd::XpbdModel soft(mesh, Material{3000.0, 0.3, 1000.0}, XpbdParams{});
-  EXPECT_EQ(soft.substeps_for(kDt), XpbdParams{}.substeps);
+  EXPECT_EQ(soft.substeps_for(kXpbdDt), XpbdParams{}.substeps);
 }
 
 TEST(Xpbd, FlattenedAndCollapsedTetsStayFinite) {
@@ -295,23 +295,23 @@ TEST(Xpbd, FlattenedAndCollapsedTetsStayFinite) {
   // Flattened: vertex 3 in the plane of the others (J = 0, C_D's and C_H's gradients defined):
   // the tet comes back to a positive volume.
   {
-    auto body = make_xpbd(mesh, kMaterial, {});
+    auto body = make_xpbd(mesh, kXpbdMaterial, {});
     Eigen::Matrix3Xd flat = mesh.rest_positions();
     flat.col(3) = Eigen::Vector3d(0.2, 0.3, 0.0);
     body->set_state(flat, Eigen::Matrix3Xd::Zero(3, 4));
     for (int step = 0; step < 60; ++step) {
-      ASSERT_TRUE(body->step(kDt, no_gravity()).finite) << "step " << step;
+      ASSERT_TRUE(body->step(kXpbdDt, no_gravity()).finite) << "step " << step;
     }
     EXPECT_EQ(count_inverted_tets(mesh, body->positions()), 0);
   }
   // Collapsed to a point (F = 0: both gradients vanish, C_D's direction undefined): the step
   // must stay finite (nothing can push it apart, so it stays collapsed).
   {
-    auto body = make_xpbd(mesh, kMaterial, {});
+    auto body = make_xpbd(mesh, kXpbdMaterial, {});
     const Eigen::Matrix3Xd point = Eigen::Vector3d(0.1, 0.2, 0.3).replicate(1, 4);
     body->set_state(point, Eigen::Matrix3Xd::Zero(3, 4));
     for (int step = 0; step < 10; ++step) {
-      ASSERT_TRUE(body->step(kDt, no_gravity()).finite) << "step " << step;
+      ASSERT_TRUE(body->step(kXpbdDt, no_gravity()).finite) << "step " << step;
     }
     EXPECT_TRUE(body->positions().allFinite());
   }
@@ -324,7 +324,7 @@ TEST(Xpbd, ThePenaltyHoldPullsWithItsStiffness) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 1, 0.08, 0.08, 0.04));
   XpbdParams params;
   params.mass_damping = 5.0;
-  auto body = make_xpbd(mesh, kMaterial, params);
+  auto body = make_xpbd(mesh, kXpbdMaterial, params);
   std::vector<PositionConstraint> springs;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Eigen::Vector3d x = mesh.rest_positions().col(v);
@@ -335,10 +335,10 @@ TEST(Xpbd, ThePenaltyHoldPullsWithItsStiffness) {
   StepInput input;
   input.constraints = springs;
   for (int step = 0; step < 2000; ++step) {
-    ASSERT_TRUE(body->step(kDt, input).finite);
+    ASSERT_TRUE(body->step(kXpbdDt, input).finite);
   }
   ASSERT_LT(body->velocities().cwiseAbs().maxCoeff(), 1e-8);
-  const double weight = kMaterial.density * mesh_volume(mesh) * 9.81;
+  const double weight = kXpbdMaterial.density * mesh_volume(mesh) * 9.81;
   EXPECT_NEAR(body->constraint_forces().row(2).sum(), weight, 1e-6 * weight);
   for (const PositionConstraint& spring : springs) {
     // Each spring's force is k times its stretch (to the sweep's convergence at rest).

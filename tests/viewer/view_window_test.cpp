@@ -109,8 +109,9 @@ TEST(ViewWindow, APressDeformsTheLiverWhereItPressedAndTheWindowKeepsFiftyFrames
 
   std::ifstream in(report);
   const nlohmann::json measured = nlohmann::json::parse(in);
-  // The rate the window showed, over the whole run (start-up included).
-  EXPECT_GE(measured.at("frames_per_second").get<double>(), 50.0) << measured.dump(2);
+  // The rate the window showed, second by second: its median (the first second is the window's
+  // start-up).
+  EXPECT_GE(measured.at("frames_per_second_shown_median").get<double>(), 50.0) << measured.dump(2);
   const nlohmann::json& model = measured.at("viewports").at(0);
   EXPECT_EQ(model.at("model"), "corotational_fem");
   EXPECT_EQ(model.at("failure"), "");
