@@ -233,7 +233,8 @@ void LiveModel::publish(double step_seconds) {
   const double span = s.recent.size() < 2 ? 0.0 : seconds_between(s.recent.front().wall, now);
   frame_.steps_per_second = span > 0.0 ? (s.recent.back().step - s.recent.front().step) / span : 0.0;
   frame_.real_time = span > 0.0 ? (s.recent.back().time - s.recent.front().time) / span : 0.0;
-  frame_.playing = playing_ && s.failure.empty();
+  frame_.ended = s.drive == Drive::kScript && s.step >= s.scene.num_steps();
+  frame_.playing = playing_ && s.failure.empty() && !frame_.ended;
   frame_.grasping = s.grasping;
   frame_.drive = s.drive;
   frame_.failure = s.failure;

@@ -37,6 +37,7 @@ struct LiveFrame {
   double real_time = 0.0;
   double step_ms = 0.0;  ///< median wall time of the last 60 steps (contact passes included)
   bool playing = false;
+  bool ended = false;  ///< the scene's script has run to its end
   bool grasping = false;
   Drive drive = Drive::kHand;
   std::string failure;  ///< why the body stopped (diverged), or ""

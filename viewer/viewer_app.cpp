@@ -428,6 +428,8 @@ void App::overlay(std::size_t index) {
               frame.step_ms);
   if (!frame.failure.empty()) {
     ImGui::TextColored(ImVec4(0.8F, 0.1F, 0.1F, 1.0F), "%s", frame.failure.c_str());
+  } else if (frame.ended) {
+    ImGui::Text("the script has ended (R: again, H: the hand)");
   } else if (!frame.playing) {
     ImGui::Text("paused");
   } else if (frame.real_time < 0.95) {
