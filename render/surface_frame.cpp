@@ -27,7 +27,7 @@ BodySurface::BodySurface(const TetMesh& mesh)
   }
 }
 
-void BodySurface::append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const {
+int BodySurface::append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const {
   const auto count = static_cast<Eigen::Index>(surface_vertices_.size());
   Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, count);
   for (Eigen::Index t = 0; t < surface_.triangles.cols(); ++t) {
@@ -40,10 +40,12 @@ void BodySurface::append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame)
     }
   }
   std::vector<std::uint8_t> marked(static_cast<std::size_t>(count), 0);
+  int inverted = 0;
   for (Eigen::Index t = 0; t < tets_.cols(); ++t) {
     if (!is_inverted(tets_, t, positions)) {
       continue;
     }
+    ++inverted;
     for (int k = 0; k < 4; ++k) {
       const int index = surface_index_[static_cast<std::size_t>(tets_(k, t))];
       if (index >= 0) {
@@ -65,6 +67,7 @@ void BodySurface::append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame)
       frame.indices.push_back(first + static_cast<std::uint32_t>(surface_.triangles(k, t)));
     }
   }
+  return inverted;
 }
 
 std::optional<SurfaceHit> BodySurface::pick(const Eigen::Matrix3Xd& positions,

@@ -23,6 +23,10 @@ struct SurfaceFrame {
   std::vector<std::uint32_t> indices;
 
   int num_vertices() const { return static_cast<int>(vertices.size()) / kFloatsPerVertex; }
+  void clear() {  ///< empty, keeping the storage for the next frame
+    vertices.clear();
+    indices.clear();
+  }
   void add_vertex(const Eigen::Vector3d& position,
                   const Eigen::Vector3d& normal,
                   const Eigen::Vector3f& colour);
@@ -53,8 +57,9 @@ class BodySurface {
   /// Appends the surface at `positions` (3 x #V of the tet mesh): smooth normals (the
   /// area-weighted mean of the faces around a vertex, recomputed from these positions), and
   /// kInvertedColour on every surface vertex of a tet whose signed volume is not positive (so
-  /// a picture shows where a model left the body inside out).
-  void append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const;
+  /// a picture shows where a model left the body inside out). Returns how many tets are
+  /// inverted.
+  int append(const Eigen::Matrix3Xd& positions, SurfaceFrame& frame) const;
   /// The nearest surface point the ray meets at `positions` (either face of a triangle), or
   /// none: what a click on the body picks.
   std::optional<SurfaceHit> pick(const Eigen::Matrix3Xd& positions, const Ray& ray) const;

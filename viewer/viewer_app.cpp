@@ -3,7 +3,6 @@
 
 #include "geometry/atomic_file.h"
 #include "geometry/input_error.h"
-#include "geometry/mesh_measures.h"
 #include "harness/interrupt.h"
 #include "harness/report/pictures.h"
 #include "models/model_registry.h"
@@ -79,6 +78,11 @@ struct Viewport {
   nlohmann::json edits;  ///< the parameter editor's values
   std::string message;   ///< the last Apply's or model change's error
   LiveFrame frame;       ///< this window frame's copy
+  // What this window frame draws of it, the storage kept from frame to frame.
+  render::SurfaceFrame body;    ///< the surface
+  render::SurfaceFrame extras;  ///< the tool, its force, the contacts
+  render::SurfaceFrame tets;    ///< the tet view's faces
+  int inverted = 0;             ///< tets inverted in `frame`
 };
 
 class App {
@@ -86,13 +90,14 @@ class App {
   App(const scenes::Scene& scene, const harness::SceneMesh& mesh, const ViewOptions& options)
       : scene_(scene), mesh_(mesh), options_(options), surface_(mesh.body) {
     for (const std::string& name : options.models) {
-      viewports_.push_back(Viewport{std::make_unique<LiveModel>(scene, mesh, name), {}, {}, {}});
+      viewports_.emplace_back();
+      viewports_.back().model = std::make_unique<LiveModel>(scene, mesh, name);
       viewports_.back().model->reset(options.drive);
     }
     drive_ = options.drive;
   }
 
-  int run(GLFWwindow* window);
+  void run(GLFWwindow* window);
 
  private:
   void replay(double time);
@@ -104,6 +109,7 @@ class App {
   void send();
   void panel();
   void overlay(std::size_t index);
+  void build(std::size_t index);
   void draw(std::size_t index);
   render::Camera camera() const;
   render::Viewport viewport(std::size_t index) const;
@@ -441,49 +447,56 @@ void App::overlay(std::size_t index) {
   }
   ImGui::Text("tool force %.3f N, %zu vertices in contact%s", frame.tool_force.norm(),
               frame.contacts.size(), frame.grasping ? ", grasping" : "");
-  const int inverted = count_inverted_tets(mesh_.body, frame.positions);
-  if (inverted > 0) {
-    ImGui::TextColored(ImVec4(0.7F, 0.55F, 0.0F, 1.0F), "%d tets inverted (yellow)", inverted);
+  if (view.inverted > 0) {
+    ImGui::TextColored(ImVec4(0.7F, 0.55F, 0.0F, 1.0F), "%d tets inverted (yellow)", view.inverted);
   }
   ImGui::End();
 }
 
-void App::draw(std::size_t index) {
-  const LiveFrame& frame = viewports_[index].frame;
-  // The tool, its force and the contacts; then the body: its shaded surface, or (the tet view)
-  // every tet's edges, seen through.
-  render::SurfaceFrame picture;
+void App::build(std::size_t index) {
+  Viewport& view = viewports_[index];
+  const LiveFrame& frame = view.frame;
+  view.body.clear();
+  view.extras.clear();
+  view.tets.clear();
+  view.inverted = surface_.append(frame.positions, view.body);
   const double diagonal = mesh_.diagonal();
   if (frame.tool_visible && mesh_.instrument) {
-    render::append_instrument(*mesh_.instrument, frame.tool_pose, picture);
+    render::append_instrument(*mesh_.instrument, frame.tool_pose, view.extras);
     if (force_ && frame.tool_force.norm() > 1e-6) {
       const Eigen::Vector3d tip = frame.tool_pose.translation();
       const Eigen::Vector3d arrow = kArrowPerNewton * frame.tool_force;
       const double length = std::min(arrow.norm(), 0.5 * diagonal);
       render::append_arrow(tip, tip + length * arrow.normalized(), 0.012 * diagonal,
-                           render::kForceColour, picture);
+                           render::kForceColour, view.extras);
     }
   }
   if (contacts_) {
     for (const int vertex : frame.contacts) {
       render::append_marker(frame.positions.col(vertex), 0.008 * diagonal, render::kContactColour,
-                            picture);
+                            view.extras);
     }
   }
-  const render::Camera view = camera();
-  const render::Viewport port = viewport(index);
   if (tets_) {
-    renderer_->draw(picture, view, port, render::DrawOptions{true, true, false});
-    render::SurfaceFrame tets;
-    render::append_tet_faces(mesh_.body.tets(), frame.positions, render::kTissueColour, tets);
-    renderer_->draw(tets, view, port, render::DrawOptions{false, false, true});
-    return;
+    render::append_tet_faces(mesh_.body.tets(), frame.positions, render::kTissueColour, view.tets);
   }
-  surface_.append(frame.positions, picture);
-  renderer_->draw(picture, view, port, render::DrawOptions{true, true, wireframe_});
 }
 
-int App::run(GLFWwindow* window) {
+void App::draw(std::size_t index) {
+  const Viewport& view = viewports_[index];
+  const render::Camera eye = camera();
+  const render::Viewport port = viewport(index);
+  // The body: its shaded surface, or (the tet view) every tet's edges, seen through.
+  if (tets_) {
+    renderer_->draw(view.extras, eye, port, render::DrawOptions{true, true, false});
+    renderer_->draw(view.tets, eye, port, render::DrawOptions{false, false, true});
+    return;
+  }
+  renderer_->draw(view.body, eye, port, render::DrawOptions{true, true, wireframe_});
+  renderer_->draw(view.extras, eye, port, render::DrawOptions{false, true, false});
+}
+
+void App::run(GLFWwindow* window) {
   renderer_ = std::make_unique<render::SurfaceRenderer>();
   behind_seconds_.assign(viewports_.size(), 0.0);
   const Clock::time_point opened = Clock::now();
@@ -493,8 +506,9 @@ int App::run(GLFWwindow* window) {
     glfwPollEvents();
     glfwGetFramebufferSize(window, &framebuffer_width_, &framebuffer_height_);
     glfwGetWindowSize(window, &window_width_, &window_height_);
-    for (Viewport& view : viewports_) {
-      view.frame = view.model->frame();
+    for (std::size_t i = 0; i < viewports_.size(); ++i) {
+      viewports_[i].frame = viewports_[i].model->frame();
+      build(i);
     }
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
@@ -548,7 +562,6 @@ int App::run(GLFWwindow* window) {
   if (!options_.report.empty()) {
     write_report(seconds_between(opened, Clock::now()));
   }
-  return harness::interrupt_requested() ? 130 : 0;
 }
 
 void App::write_report(double seconds) const {
@@ -624,7 +637,7 @@ class Window {
 
 }  // namespace
 
-int run_viewer(const scenes::Scene& scene,
+void run_viewer(const scenes::Scene& scene,
                const harness::SceneMesh& mesh,
                const ViewOptions& options) {
   if (options.models.empty() || options.models.size() > 2) {
@@ -633,7 +646,7 @@ int run_viewer(const scenes::Scene& scene,
   const Window window("softbench view: " + scene.name, options.width, options.height);
   // The models' threads stop (App's destructor) before the window closes.
   App app(scene, mesh, options);
-  return app.run(window.get());
+  app.run(window.get());
 }
 
 }  // namespace softbench::viewer

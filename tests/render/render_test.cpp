@@ -144,6 +144,9 @@ TEST(Render, InvertedTetsAreMarkedInTheirColour) {
   positions(2, top) -= 0.03;
   EXPECT_GT(count_inverted_tets(box(), positions), 0);
   EXPECT_EQ(count_inverted_tets(box(), box().rest_positions()), 0);
+  // The surface counts what it marks: the viewer shows that number.
+  SurfaceFrame frame;
+  EXPECT_EQ(BodySurface(box()).append(positions, frame), count_inverted_tets(box(), positions));
   const Image image = draw(positions);
   int marked = 0;
   for (int y = 0; y < kHeight; ++y) {
