@@ -535,8 +535,8 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
   EnergyErrorEstimate estimate(reference_energy);
   report.converged = first_residual == 0.0;
   eisenstat_iterations(
-      num_vertices_, w, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance,
-      max_iterations, estimate, report,
+      num_vertices_, w, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance, max_iterations,
+      estimate, report,
       [this](double beta) {
         backward_sweep(beta);
         return forward_sweep();
@@ -562,6 +562,7 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
   for (const int c : held_vertices_) {
     filter_in_place(c, q + 3 * c);
   }
+  translation_correction(w, q);
   report.residual = product_.norm();
   return report;
 }
@@ -754,8 +755,76 @@ SolveReport SpringSystem::solve_block_jacobi(double tolerance,
       p[i] = z[i] + beta * p[i];
     }
   }
-  report.residual = residual_norm;
+  translation_correction(w, r);
+  report.residual = residual_.norm();
   return report;
+}
+
+Eigen::Matrix3d SpringSystem::filter_matrix(int v) const {
+  switch (kinds_[static_cast<std::size_t>(v)]) {
+    case kFree:
+      return Eigen::Matrix3d::Identity();
+    case kFixed:
+      return Eigen::Matrix3d::Zero();
+    case kSliding:
+      break;
+  }
+  return Eigen::Matrix3d::Identity()
+         - held_[static_cast<std::size_t>(slots_[static_cast<std::size_t>(v)])];
+}
+
+void SpringSystem::translation_correction(double* w, double* r) const {
+  // Z^T A Z and Z^T r. A spring between two free vertices does not resist a translation
+  // (Z_i - Z_j = 0): only the vertices' own terms and the springs at held vertices count.
+  Eigen::Matrix3d coarse = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
+  for (int v = 0; v < num_vertices_; ++v) {
+    residual_sum += Eigen::Map<const Eigen::Vector3d>(r + 3 * v);  // r = S r
+    coarse += masses_(v) * filter_matrix(v);                       // S m S = m S
+  }
+  for (std::size_t k = 0; k < penalty_vertices_.size(); ++k) {
+    coarse += penalties_[k];  // at free vertices (S = I)
+  }
+  const auto held_springs = [this](const auto& visit) {
+    for (const int c : held_vertices_) {
+      for (int k = incident_begin(c); k < incident_end(c); ++k) {
+        const int e = incident_springs_[static_cast<std::size_t>(k)];
+        const int i = firsts_[static_cast<std::size_t>(e)];
+        const int j = others_[static_cast<std::size_t>(e)];
+        const int other = i + j - c;
+        if (kinds_[static_cast<std::size_t>(other)] != kFree && other < c) {
+          continue;  // both ends held: visited from the other end
+        }
+        visit(e, i, j);
+      }
+    }
+  };
+  held_springs([&](int e, int i, int j) {
+    const Eigen::Matrix3d difference = filter_matrix(i) - filter_matrix(j);
+    coarse += difference.transpose() * spring_block(e) * difference;
+  });
+  const Eigen::Vector3d shift = coarse.ldlt().solve(residual_sum);
+  if (!shift.allFinite() || shift.squaredNorm() == 0.0) {
+    return;
+  }
+  // w += Z c, and r -= S A Z c.
+  for (int v = 0; v < num_vertices_; ++v) {
+    const Eigen::Vector3d moved = filter(v, shift);
+    Eigen::Vector3d pushed = masses_(v) * moved;
+    const int slot = slots_[static_cast<std::size_t>(v)];
+    if (slot >= 0 && kinds_[static_cast<std::size_t>(v)] == kFree) {
+      pushed += penalties_[static_cast<std::size_t>(slot)] * moved;
+    }
+    for (int a = 0; a < 3; ++a) {
+      w[3 * v + a] += moved(a);
+      r[3 * v + a] -= pushed(a);
+    }
+  }
+  held_springs([&](int e, int i, int j) {
+    const Eigen::Vector3d force = spring_block(e) * (filter(i, shift) - filter(j, shift));
+    Eigen::Map<Eigen::Vector3d>(r + 3 * i) -= filter(i, force);
+    Eigen::Map<Eigen::Vector3d>(r + 3 * j) += filter(j, force);
+  });
 }
 
 std::size_t SpringSystem::memory_bytes() const {

@@ -145,6 +145,14 @@ class SpringSystem {
   /// out_j += B_e y over the springs v owns.
   void push_owned(int v, const double* y, double* out) const;
   void filter_in_place(int v, double* value) const;
+  /// S_v: I at a free vertex, 0 at a fully held one, I - H at a sliding one.
+  Eigen::Matrix3d filter_matrix(int v) const;
+  /// The coarse correction on the rigid translations Z = S [e_x e_y e_z] that ends a solve:
+  /// w += Z c with Z^T A Z c = Z^T r (the A-orthogonal projection, which never increases the
+  /// error's energy norm), and the residual r updated. No stiffness resists a translation, so
+  /// the sweeps leave its error nearly untouched, and an inexact solve breaks a free body's
+  /// momentum balance by that much.
+  void translation_correction(double* w, double* r) const;
   /// p = z + beta p, then t = (D + U)^-1 p, and g = p - D t.
   void backward_sweep(double beta);
   /// y = (D + L)^-1 g (g is consumed), q = t + y; returns p . q.

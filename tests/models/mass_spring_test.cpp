@@ -4,6 +4,7 @@
 #include "geometry/input_error.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_validation.h"
+#include "models/corotational_fem/corotational_fem.h"
 #include "tests/model_test_support.h"
 #include "tests/test_meshes.h"
 #include "tests/test_tolerances.h"
@@ -196,7 +197,8 @@ TEST(MassSpring, ImplicitEulerMatchesSymplecticEulerAtSmallTimeSteps) {
   Eigen::Matrix3Xd stretched = mesh.rest_positions();
   stretched.row(0) *= 1.2;
   auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
-  auto implicit_body = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
+  auto implicit_body =
+      make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   place_at_rest(*explicit_body, stretched);
   place_at_rest(*implicit_body, stretched);
   for (int step = 0; step < 20; ++step) {
@@ -230,9 +232,10 @@ TEST(MassSpring, ImplicitEulerIsStableAtThirtyHertzWhereSymplecticEulerBlowsUp) 
 
   // Implicit Euler at the same dt stays finite, and its CG solve follows the exact (CHOLMOD)
   // one: after 10 s both rest at the same sag, within 0.1% of the box's size.
-  auto implicit_body =
-      make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kConjugateGradient));
-  auto exact_body = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
+  auto implicit_body = make_mass_spring(
+      mesh, Material{}, implicit(MassSpringParams::LinearSolver::kConjugateGradient));
+  auto exact_body =
+      make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   for (int step = 0; step < kSteps; ++step) {
     ASSERT_TRUE(implicit_body->step(kDt, input).finite) << "step " << step;
     ASSERT_TRUE(exact_body->step(kDt, input).finite) << "step " << step;
@@ -255,11 +258,13 @@ TEST(MassSpring, PinnedVerticesNeverMoveWithEitherIntegrator) {
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
   input.constraints = pins;
-  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod),
-                               implicit(MassSpringParams::LinearSolver::kConjugateGradient)}) {
+  for (const MassSpringParams& params :
+       {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod),
+        implicit(MassSpringParams::LinearSolver::kConjugateGradient)}) {
     auto body = make_mass_spring(mesh, Material{}, params);
     // Symplectic Euler needs a small dt with these parameters; implicit Euler runs at 60 Hz.
-    const double dt = params.integrator == MassSpringParams::Integrator::kSymplecticEuler ? 1e-4 : 1.0 / 60.0;
+    const double dt =
+        params.integrator == MassSpringParams::Integrator::kSymplecticEuler ? 1e-4 : 1.0 / 60.0;
     for (int step = 0; step < 50; ++step) {
       const StepStats stats = body->step(dt, input);
       ASSERT_TRUE(stats.finite);
@@ -313,7 +318,8 @@ TEST(MassSpring, SymplecticReactionIsTheMomentumChangeMinusTheOtherForces) {
 
 TEST(MassSpring, PenaltyConstraintsPullTowardTheirTargetAndReportTheirError) {
   const TetMesh mesh = make_tet_mesh(test::single_tet());
-  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod)}) {
+  for (const MassSpringParams& params :
+       {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod)}) {
     auto body = make_mass_spring(mesh, Material{}, params);
     const Eigen::Vector3d target = mesh.rest_positions().col(3) + Eigen::Vector3d(0.0, 0.0, 0.01);
     const std::vector<PositionConstraint> grab{{3, target, 1000.0}};
@@ -336,7 +342,8 @@ TEST(MassSpring, CholmodAndConjugateGradientAgreeOnOneStep) {
   StepInput input;
   input.constraints = pins;
   constexpr double kCgTolerance = 1e-10;
-  auto direct = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
+  auto direct =
+      make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   auto iterative = make_mass_spring(
       mesh, Material{}, implicit(MassSpringParams::LinearSolver::kConjugateGradient, kCgTolerance));
   const StepStats direct_stats = direct->step(1.0 / 30.0, input);
@@ -366,9 +373,9 @@ TEST(MassSpring, ConjugateGradientReportsHittingItsIterationCap) {
   EXPECT_TRUE(stats.finite);
   params.cg_max_iterations = 5000;
   params.cg_tolerance = 1e-8;
-  EXPECT_EQ(make_mass_spring(mesh, Material{}, params)->step(1.0 / 30.0, StepInput{})
-                .truncated_solves,
-            0);
+  EXPECT_EQ(
+      make_mass_spring(mesh, Material{}, params)->step(1.0 / 30.0, StepInput{}).truncated_solves,
+      0);
 }
 
 TEST(MassSpring, ResetRestoresTheRestStateAfterABlowUp) {
@@ -401,7 +408,8 @@ TEST(MassSpring, ExternalForcesAccelerateTheirVertex) {
   input.external_forces = &loads;
   const double dt = 1e-6;
   const double mass = material.density / 24.0;
-  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod)}) {
+  for (const MassSpringParams& params :
+       {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod)}) {
     auto body = make_mass_spring(mesh, material, params);
     body->step(dt, input);
     const Eigen::Vector3d expected = dt * load / mass;
@@ -414,8 +422,9 @@ TEST(MassSpring, ANonFiniteStepIsReportedNotThrown) {
   const TetMesh mesh = test::liver_like_box();
   StepInput input;
   input.gravity.x() = std::numeric_limits<double>::quiet_NaN();
-  for (const MassSpringParams& params : {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod),
-                               implicit(MassSpringParams::LinearSolver::kConjugateGradient)}) {
+  for (const MassSpringParams& params :
+       {symplectic(), implicit(MassSpringParams::LinearSolver::kCholmod),
+        implicit(MassSpringParams::LinearSolver::kConjugateGradient)}) {
     auto body = make_mass_spring(mesh, Material{}, params);
     StepStats stats;
     EXPECT_NO_THROW(stats = body->step(1.0 / 60.0, input));
@@ -426,7 +435,8 @@ TEST(MassSpring, ANonFiniteStepIsReportedNotThrown) {
 TEST(MassSpring, ReportsTheMemoryItHolds) {
   const TetMesh mesh = test::liver_like_box();
   auto explicit_body = make_mass_spring(mesh, Material{}, symplectic());
-  auto direct = make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
+  auto direct =
+      make_mass_spring(mesh, Material{}, implicit(MassSpringParams::LinearSolver::kCholmod));
   EXPECT_GT(explicit_body->memory_bytes(), 0U);
   // The implicit model adds the 3N x 3N system and the factor.
   EXPECT_GT(direct->memory_bytes(), explicit_body->memory_bytes());
@@ -444,7 +454,8 @@ TEST(MassSpringDefaults, SpringsFollowYoungsModulusAndNothingDampsThem) {
   EXPECT_EQ(defaults.stiffness, 180.0);  // the thesis's, for "given"
   EXPECT_EQ(defaults.integrator, MassSpringParams::Integrator::kImplicitEuler);
   EXPECT_EQ(defaults.solver, MassSpringParams::LinearSolver::kConjugateGradient);
-  EXPECT_EQ(defaults.cg_tolerance, 1e-6);
+  // One accuracy rule for the implicit models: their speeds compare at the same accuracy.
+  EXPECT_EQ(defaults.cg_tolerance, CorotationalFemParams{}.cg_tolerance);
   // `softbench models` documents the same defaults.
   std::map<std::string, nlohmann::json> documented;
   for (const ParameterDoc& doc : mass_spring_info().parameters) {
@@ -526,8 +537,9 @@ TEST(MassSpringDamping, RayleighStiffnessGivesEachSpringADashpotBetaTimesItsStif
     params.stiffness_from = from;
     params.rayleigh_stiffness = 0.07;  // s: a damping ratio of about 0.05 on this mode
     auto body = make_mass_spring(mesh, material, params);
-    const double k_eff = from == MassSpringParams::StiffnessFrom::kGiven ? 0.5 * params.stiffness
-                                                               : material.young_modulus / 24.0;
+    const double k_eff = from == MassSpringParams::StiffnessFrom::kGiven
+                             ? 0.5 * params.stiffness
+                             : material.young_modulus / 24.0;
     const double omega_squared = k_eff / mass;
     const double sigma = params.rayleigh_stiffness * omega_squared / 2.0;
     const double period = 2.0 * std::numbers::pi / std::sqrt(omega_squared);
@@ -625,43 +637,53 @@ struct PressedBox {
 };
 
 TEST(MassSpring, ConjugateGradientFollowsCholmodUnderAPressingContact) {
-  // Each solve stops at the default cg_tolerance (1e-6, the estimated energy-norm error of the
-  // new velocity, relative). Over 30 steps the positions stayed within 7e-10 of the motion of
-  // CHOLMOD's and the probe's force within 2e-10 of itself with "ssor", 5e-8 and 2e-8 with
-  // "block_jacobi" (measured): required within 1e-6.
+  // Each solve stops at cg_tolerance, the estimated energy-norm error of the new velocity,
+  // relative. Over 30 steps, the largest differences from CHOLMOD's run (positions relative to
+  // the motion, the probe's force relative to itself), measured:
+  // - at the default 1e-3: "ssor" 1.0e-6 and 1.5e-7, "block_jacobi" 3.8e-5 and 8.4e-6;
+  //   required within 1e-4;
+  // - at 1e-6: "ssor" 6.8e-10 and 2.0e-10, "block_jacobi" 4.6e-8 and 9.5e-9; required within
+  //   1e-6.
   const PressedBox box;
   ASSERT_GE(box.pressed.size(), 4U);
-  for (const MassSpringParams::Preconditioner preconditioner :
-       {MassSpringParams::Preconditioner::kSsor, MassSpringParams::Preconditioner::kBlockJacobi}) {
-    MassSpringParams iterative;
-    iterative.mass_damping = 5.0;
-    iterative.preconditioner = preconditioner;
-    MassSpringParams direct = iterative;
-    direct.solver = MassSpringParams::LinearSolver::kCholmod;
-    auto cg = make_mass_spring(box.mesh, Material{}, iterative);
-    auto cholmod = make_mass_spring(box.mesh, Material{}, direct);
-    double worst_position = 0.0;
-    double worst_force = 0.0;
-    for (int step = 1; step <= 30; ++step) {
-      const std::vector<PositionConstraint> constraints = box.constraints(step / 60.0);
-      StepInput input;
-      input.constraints = constraints;
-      ASSERT_TRUE(cg->step(1.0 / 60.0, input).finite);
-      ASSERT_TRUE(cholmod->step(1.0 / 60.0, input).finite);
-      const double motion = (cholmod->positions() - box.mesh.rest_positions()).norm();
-      worst_position =
-          std::max(worst_position, (cg->positions() - cholmod->positions()).norm() / motion);
-      Eigen::Vector3d cg_force = Eigen::Vector3d::Zero();
-      Eigen::Vector3d cholmod_force = Eigen::Vector3d::Zero();
-      for (const int v : box.pressed) {
-        cg_force += cg->constraint_forces().col(v);
-        cholmod_force += cholmod->constraint_forces().col(v);
+  for (const auto& [tolerance, agreement] :
+       {std::pair{MassSpringParams{}.cg_tolerance, 1e-4}, std::pair{1e-6, 1e-6}}) {
+    for (const MassSpringParams::Preconditioner preconditioner :
+         {MassSpringParams::Preconditioner::kSsor,
+          MassSpringParams::Preconditioner::kBlockJacobi}) {
+      MassSpringParams iterative;
+      iterative.mass_damping = 5.0;
+      iterative.preconditioner = preconditioner;
+      iterative.cg_tolerance = tolerance;
+      MassSpringParams direct = iterative;
+      direct.solver = MassSpringParams::LinearSolver::kCholmod;
+      auto cg = make_mass_spring(box.mesh, Material{}, iterative);
+      auto cholmod = make_mass_spring(box.mesh, Material{}, direct);
+      double worst_position = 0.0;
+      double worst_force = 0.0;
+      for (int step = 1; step <= 30; ++step) {
+        const std::vector<PositionConstraint> constraints = box.constraints(step / 60.0);
+        StepInput input;
+        input.constraints = constraints;
+        ASSERT_TRUE(cg->step(1.0 / 60.0, input).finite);
+        ASSERT_TRUE(cholmod->step(1.0 / 60.0, input).finite);
+        const double motion = (cholmod->positions() - box.mesh.rest_positions()).norm();
+        worst_position =
+            std::max(worst_position, (cg->positions() - cholmod->positions()).norm() / motion);
+        Eigen::Vector3d cg_force = Eigen::Vector3d::Zero();
+        Eigen::Vector3d cholmod_force = Eigen::Vector3d::Zero();
+        for (const int v : box.pressed) {
+          cg_force += cg->constraint_forces().col(v);
+          cholmod_force += cholmod->constraint_forces().col(v);
+        }
+        worst_force =
+            std::max(worst_force, (cg_force - cholmod_force).norm() / cholmod_force.norm());
       }
-      worst_force = std::max(worst_force, (cg_force - cholmod_force).norm() / cholmod_force.norm());
+      EXPECT_LT(worst_position, agreement)
+          << "tolerance " << tolerance << ", preconditioner " << static_cast<int>(preconditioner);
+      EXPECT_LT(worst_force, agreement)
+          << "tolerance " << tolerance << ", preconditioner " << static_cast<int>(preconditioner);
     }
-    constexpr double kAgreement = 1e-6;
-    EXPECT_LT(worst_position, kAgreement) << static_cast<int>(preconditioner);
-    EXPECT_LT(worst_force, kAgreement) << static_cast<int>(preconditioner);
   }
 }
 
@@ -697,7 +719,8 @@ TEST(MassSpring, AMeshAboveTheParallelThresholdStepsAlikeOnOneAndTwoThreads) {
   StepInput input;
   input.constraints = pins;
   for (const MassSpringParams& params : {MassSpringParams{}, symplectic()}) {
-    const double dt = params.integrator == MassSpringParams::Integrator::kSymplecticEuler ? 1e-5 : 1.0 / 60;
+    const double dt =
+        params.integrator == MassSpringParams::Integrator::kSymplecticEuler ? 1e-5 : 1.0 / 60;
     const auto run = [&](int threads) {
       const int before = omp_get_max_threads();
       omp_set_num_threads(threads);
@@ -787,11 +810,11 @@ TEST(MassSpringParams, RegistryListsEveryParameterWithItsDefault) {
 
 TEST(MassSpringParams, ParametersRoundTripThroughTheRegistryFactory) {
   const TetMesh mesh = make_tet_mesh(test::single_tet());
-  const nlohmann::json given = {{"stiffness", 250.0},   {"stiffness_from", "given"},
-                                {"damping", 2.0},       {"rayleigh_stiffness", 0.01},
-                                {"mass_damping", 0.5},  {"integrator", "implicit_euler"},
-                                {"solver", "cholmod"},  {"preconditioner", "block_jacobi"},
-                                {"cg_tolerance", 1e-8}, {"cg_max_iterations", 50},
+  const nlohmann::json given = {{"stiffness", 250.0},     {"stiffness_from", "given"},
+                                {"damping", 2.0},         {"rayleigh_stiffness", 0.01},
+                                {"mass_damping", 0.5},    {"integrator", "implicit_euler"},
+                                {"solver", "cholmod"},    {"preconditioner", "block_jacobi"},
+                                {"cg_tolerance", 1e-8},   {"cg_max_iterations", 50},
                                 {"stiffness_scale", 1.5}, {"calibrated", nullptr}};
   auto body = mass_spring_info().create(mesh, Material{}, given, ParamSource{});
   EXPECT_EQ(body->parameters(), given);
