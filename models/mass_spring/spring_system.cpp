@@ -323,21 +323,14 @@ SolveReport SpringSystem::solve(const Eigen::VectorXd& b,
   const Springs springs = springs_of(coefficients_);
   for (const int c : held_vertices_) {
     rhs_.segment<3>(3 * c) -= masses_(c) * known_.segment<3>(3 * c);
-    for (int k = incident_begin(c); k < incident_end(c); ++k) {
-      const int e = incident_springs_[static_cast<std::size_t>(k)];
-      const int i = firsts_[static_cast<std::size_t>(e)];
-      const int j = others_[static_cast<std::size_t>(e)];
-      const int other = i + j - c;
-      if (kinds_[static_cast<std::size_t>(other)] != kFree && other < c) {
-        continue;  // both ends held: done from the other end
-      }
-      const Eigen::Vector3d r = known_.segment<3>(3 * i) - known_.segment<3>(3 * j);
-      Eigen::Vector3d f;
-      springs.apply(e, r.data(), f.data());
-      rhs_.segment<3>(3 * i) -= f;
-      rhs_.segment<3>(3 * j) += f;
-    }
   }
+  for_each_held_spring([&](Eigen::Index e, int i, int j) {
+    const Eigen::Vector3d r = known_.segment<3>(3 * i) - known_.segment<3>(3 * j);
+    Eigen::Vector3d f;
+    springs.apply(e, r.data(), f.data());
+    rhs_.segment<3>(3 * i) -= f;
+    rhs_.segment<3>(3 * j) += f;
+  });
   for (const int c : held_vertices_) {
     rhs_.segment<3>(3 * c) = filter(c, rhs_.segment<3>(3 * c));
   }
@@ -785,21 +778,7 @@ void SpringSystem::translation_correction(double* w, double* r) const {
   for (std::size_t k = 0; k < penalty_vertices_.size(); ++k) {
     coarse += penalties_[k];  // at free vertices (S = I)
   }
-  const auto held_springs = [this](const auto& visit) {
-    for (const int c : held_vertices_) {
-      for (int k = incident_begin(c); k < incident_end(c); ++k) {
-        const int e = incident_springs_[static_cast<std::size_t>(k)];
-        const int i = firsts_[static_cast<std::size_t>(e)];
-        const int j = others_[static_cast<std::size_t>(e)];
-        const int other = i + j - c;
-        if (kinds_[static_cast<std::size_t>(other)] != kFree && other < c) {
-          continue;  // both ends held: visited from the other end
-        }
-        visit(e, i, j);
-      }
-    }
-  };
-  held_springs([&](int e, int i, int j) {
+  for_each_held_spring([&](Eigen::Index e, int i, int j) {
     const Eigen::Matrix3d difference = filter_matrix(i) - filter_matrix(j);
     coarse += difference.transpose() * spring_block(e) * difference;
   });
@@ -820,7 +799,7 @@ void SpringSystem::translation_correction(double* w, double* r) const {
       r[3 * v + a] -= pushed(a);
     }
   }
-  held_springs([&](int e, int i, int j) {
+  for_each_held_spring([&](Eigen::Index e, int i, int j) {
     const Eigen::Vector3d force = spring_block(e) * (filter(i, shift) - filter(j, shift));
     Eigen::Map<Eigen::Vector3d>(r + 3 * i) -= filter(i, force);
     Eigen::Map<Eigen::Vector3d>(r + 3 * j) += filter(j, force);

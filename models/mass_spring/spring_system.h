@@ -145,6 +145,21 @@ class SpringSystem {
   /// out_j += B_e y over the springs v owns.
   void push_owned(int v, const double* y, double* out) const;
   void filter_in_place(int v, double* value) const;
+  /// visit(e, i, j) once for every spring e = (i, j) with a held end (both held: once).
+  template <class Visit>
+  void for_each_held_spring(const Visit& visit) const {
+    for (const int c : held_vertices_) {
+      for (int k = incident_begin(c); k < incident_end(c); ++k) {
+        const int e = incident_springs_[static_cast<std::size_t>(k)];
+        const int i = firsts_[static_cast<std::size_t>(e)];
+        const int j = others_[static_cast<std::size_t>(e)];
+        const int other = i + j - c;
+        if (kinds_[static_cast<std::size_t>(other)] == kFree || other > c) {
+          visit(static_cast<Eigen::Index>(e), i, j);
+        }
+      }
+    }
+  }
   /// S_v: I at a free vertex, 0 at a fully held one, I - H at a sliding one.
   Eigen::Matrix3d filter_matrix(int v) const;
   /// The coarse correction on the rigid translations Z = S [e_x e_y e_z] that ends a solve:
