@@ -13,9 +13,9 @@
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GLFW/glfw3.h>
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <chrono>
@@ -199,15 +199,16 @@ void App::mouse_down(const Eigen::Vector2d& pixel) {
   command_.rest_point = Eigen::Vector3d::Zero();
   for (int k = 0; k < 3; ++k) {
     command_.rest_point +=
-        hit->weights[k] * mesh_.body.rest_positions().col(hit->vertices[static_cast<std::size_t>(k)]);
+        hit->weights[k]
+        * mesh_.body.rest_positions().col(hit->vertices[static_cast<std::size_t>(k)]);
   }
   command_.depth = 0.0;
   command_.grasp = false;
   ++command_.press;
   press_y_ = pixel.y();
   // A pixel's size at the picked point's distance: dragging moves the tip with the mouse.
-  metres_per_pixel_ = hit->distance * 2.0 * std::tan(0.5 * render::kFieldOfView)
-                      / std::max(1, port.height) * scale;
+  metres_per_pixel_ =
+      hit->distance * 2.0 * std::tan(0.5 * render::kFieldOfView) / std::max(1, port.height) * scale;
   send();
 }
 
@@ -362,8 +363,9 @@ void App::panel() {
   ImGui::SameLine();
   ImGui::Checkbox("force", &force_);
   ImGui::PushTextWrapPos(0.0F);
-  ImGui::TextDisabled("drag on the body: press (down: deeper); G: grasp, then drag up: pull; "
-                      "right drag: turn; wheel: zoom; space: pause; S: step; R: reset");
+  ImGui::TextDisabled(
+      "drag on the body: press (down: deeper); G: grasp, then drag up: pull; "
+      "right drag: turn; wheel: zoom; space: pause; S: step; R: reset");
   ImGui::PopTextWrapPos();
   const std::vector<std::string> names = builtin_models().names();
   for (std::size_t i = 0; i < viewports_.size(); ++i) {
@@ -420,9 +422,9 @@ void App::overlay(std::size_t index) {
   const render::Viewport port = viewport(index);
   const double scale = static_cast<double>(window_width_) / std::max(1, framebuffer_width_);
   // At the viewport's bottom left, clear of the panel (top left) and of the body.
-  ImGui::SetNextWindowPos(ImVec2(static_cast<float>(port.x * scale + 8.0),
-                                 static_cast<float>(window_height_ - 8)),
-                          ImGuiCond_Always, ImVec2(0.0F, 1.0F));
+  ImGui::SetNextWindowPos(
+      ImVec2(static_cast<float>(port.x * scale + 8.0), static_cast<float>(window_height_ - 8)),
+      ImGuiCond_Always, ImVec2(0.0F, 1.0F));
   ImGui::SetNextWindowBgAlpha(0.6F);
   const std::string name = "##overlay" + std::to_string(index);
   ImGui::Begin(name.c_str(), nullptr,
@@ -519,7 +521,8 @@ void App::run(GLFWwindow* window) {
     for (std::size_t i = 0; i < viewports_.size(); ++i) {
       overlay(i);
       const LiveFrame& frame = viewports_[i].frame;
-      if (frame.playing && frame.failure.empty() && frame.real_time > 0.0 && frame.real_time < 0.95) {
+      if (frame.playing && frame.failure.empty() && frame.real_time > 0.0
+          && frame.real_time < 0.95) {
         behind_seconds_[i] += seconds_between(last, begin);
       }
     }
@@ -590,8 +593,7 @@ void App::write_report(double seconds) const {
                                    {"failure", frame.failure},
                                    {"parameters", frame.parameters}});
   }
-  write_file_atomically(options_.report,
-                        [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+  write_file_atomically(options_.report, [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 }
 
 /// The window, its GL context and Dear ImGui on it, from opening to closing.
@@ -599,8 +601,9 @@ class Window {
  public:
   Window(const std::string& title, int width, int height) {
     if (glfwInit() == GLFW_FALSE) {
-      throw InputError("softbench view: no display to open a window on (set DISPLAY, or run "
-                       "under xvfb-run)");
+      throw InputError(
+          "softbench view: no display to open a window on (set DISPLAY, or run "
+          "under xvfb-run)");
     }
     glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
@@ -638,8 +641,8 @@ class Window {
 }  // namespace
 
 void run_viewer(const scenes::Scene& scene,
-               const harness::SceneMesh& mesh,
-               const ViewOptions& options) {
+                const harness::SceneMesh& mesh,
+                const ViewOptions& options) {
   if (options.models.empty() || options.models.size() > 2) {
     throw InputError("softbench view: one or two models, one viewport each");
   }

@@ -24,10 +24,10 @@ struct ViewOptions {
 /// The interactive liver: a window (GLFW, OpenGL 3.3 core) with Dear ImGui controls, one
 /// LiveModel per viewport on its own thread, the hand's instrument moved with the mouse (drag
 /// on the body: press; G: grasp and pull; right drag: turn; wheel: zoom), until the window is
-/// closed, the script quits, or Ctrl-C (harness::interrupt_requested() then says so). Throws InputError when no window
-/// can be opened (no display) and for a bad model block.
+/// closed, the script quits, or Ctrl-C (harness::interrupt_requested() then says so). Throws
+/// InputError when no window can be opened (no display) and for a bad model block.
 void run_viewer(const scenes::Scene& scene,
-               const harness::SceneMesh& mesh,
-               const ViewOptions& options);
+                const harness::SceneMesh& mesh,
+                const ViewOptions& options);
 
 }  // namespace softbench::viewer

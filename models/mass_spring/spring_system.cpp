@@ -754,16 +754,11 @@ SolveReport SpringSystem::solve_block_jacobi(double tolerance,
 }
 
 Eigen::Matrix3d SpringSystem::filter_matrix(int v) const {
-  switch (kinds_[static_cast<std::size_t>(v)]) {
-    case kFree:
-      return Eigen::Matrix3d::Identity();
-    case kFixed:
-      return Eigen::Matrix3d::Zero();
-    case kSliding:
-      break;
+  Eigen::Matrix3d filter_columns;
+  for (int a = 0; a < 3; ++a) {
+    filter_columns.col(a) = filter(v, Eigen::Vector3d::Unit(a));
   }
-  return Eigen::Matrix3d::Identity()
-         - held_[static_cast<std::size_t>(slots_[static_cast<std::size_t>(v)])];
+  return filter_columns;
 }
 
 void SpringSystem::translation_correction(double* w, double* r) const {

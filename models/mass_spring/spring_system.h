@@ -160,7 +160,8 @@ class SpringSystem {
       }
     }
   }
-  /// S_v: I at a free vertex, 0 at a fully held one, I - H at a sliding one.
+  /// S_v as a matrix (filter()'s columns): I at a free vertex, 0 at a fully held one, I - H at
+  /// a sliding one.
   Eigen::Matrix3d filter_matrix(int v) const;
   /// The coarse correction on the rigid translations Z = S [e_x e_y e_z] that ends a solve:
   /// w += Z c with Z^T A Z c = Z^T r (the A-orthogonal projection, which never increases the
