@@ -2,13 +2,13 @@
 #include "models/mass_spring/spring_system.h"
 
 #include "models/eisenstat_cg.h"
+#include "models/mass_spring/double_pair.h"
 #include "models/warm_start.h"
 
 #include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 
 namespace softbench::mass_spring {
@@ -75,17 +75,6 @@ struct Springs {
   }
 };
 
-/// Two doubles in one SSE2 register (GCC's and Clang's vector extension: portable, and plain
-/// scalar code where the target has no such registers). The sweeps take a vertex's springs two at
-/// a time: the coefficients are contiguous (by column), the other ends' values are gathered.
-using Pair = double __attribute__((vector_size(16)));
-
-inline Pair load_pair(const double* at) {
-  Pair pair;
-  std::memcpy(&pair, at, sizeof(pair));
-  return pair;
-}
-
 inline double dot3(const double* a, const double* b) {
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
@@ -147,10 +136,8 @@ SpringSystem::SpringSystem(int num_vertices, const Eigen::Matrix2Xi& springs)
                                   &direction_, &product_, &sweep_, &carry_}) {
     vector->setZero(size);
   }
-  for (int j = 0; j < kHistory; ++j) {
-    history_[static_cast<std::size_t>(j)].setZero(size);
-    basis_[static_cast<std::size_t>(j)].setZero(size);
-    basis_products_[static_cast<std::size_t>(j)].setZero(size);
+  for (History* block : {&history_, &basis_, &basis_products_}) {
+    block->setZero(3 * kHistory, num_vertices);
   }
 }
 
@@ -364,7 +351,11 @@ SolveReport SpringSystem::solve(const Eigen::VectorXd& b,
   report.succeeded = std::isfinite(report.residual) && x.allFinite();
   if (report.succeeded) {
     history_head_ = (history_head_ + 1) % kHistory;
-    history_[static_cast<std::size_t>(history_head_)] = x;
+    for (int v = 0; v < num_vertices_; ++v) {
+      for (int a = 0; a < 3; ++a) {
+        history_(kHistory * a + history_head_, v) = x(3 * v + a);
+      }
+    }
     history_count_ = std::min(history_count_ + 1, kHistory);
   } else {
     forget_solutions();
@@ -372,33 +363,118 @@ SolveReport SpringSystem::solve(const Eigen::VectorXd& b,
   return report;
 }
 
+void SpringSystem::forget_solutions() {
+  history_.setZero();  // the unused slots' zero products keep them out of the combination
+  history_count_ = 0;
+}
+
 void SpringSystem::warm_start() {
-  // Fixed size: the entries past history_count_ stay zero, and so do their eigenvalues.
   using Small = Eigen::Matrix<double, kHistory, kHistory>;
   using SmallVector = Eigen::Matrix<double, kHistory, 1>;
-  const int count = history_count_;
-  Small gram = Small::Zero();
-  SmallVector projected = SmallVector::Zero();
-  for (int j = 0; j < count; ++j) {
-    const auto slot = static_cast<std::size_t>(j);
-    Eigen::VectorXd& basis = basis_[slot];
-    basis = history_[static_cast<std::size_t>((history_head_ - j + kHistory) % kHistory)];
-    for (const int c : held_vertices_) {
-      basis.segment<3>(3 * c) = filter(c, basis.segment<3>(3 * c));
-    }
-    filtered_multiply(basis.data(), basis_products_[slot].data());
-    projected(j) = basis.dot(rhs_);
-    for (int i = 0; i <= j; ++i) {
-      gram(i, j) = basis_[static_cast<std::size_t>(i)].dot(basis_products_[slot]);
-      gram(j, i) = gram(i, j);
+  solution_.setZero();
+  if (history_count_ == 0) {
+    return;
+  }
+  basis_ = history_;
+  for (const int c : held_vertices_) {
+    for (int k = 0; k < kHistory; ++k) {
+      Eigen::Map<Eigen::Vector3d, 0, Eigen::InnerStride<kHistory>> value(&basis_(k, c));
+      value = filter(c, value);
     }
   }
-  // The past solutions are often nearly parallel: GalerkinWarmStart's pseudo-inverse.
+  multiply_history();
+  // G_ij = s_i . S A S s_j and h_i = s_i . S (b - A u_k), over every vertex and coordinate. A
+  // slot not yet used holds zeros: its row and column of G are zero, so is its coefficient.
+  Small gram = Small::Zero();
+  SmallVector projected = SmallVector::Zero();
+  for (int v = 0; v < num_vertices_; ++v) {
+    for (int a = 0; a < 3; ++a) {
+      const auto basis = basis_.col(v).segment<kHistory>(kHistory * a);
+      const auto product = basis_products_.col(v).segment<kHistory>(kHistory * a);
+      gram.noalias() += basis * product.transpose();
+      projected += rhs_(3 * v + a) * basis;
+    }
+  }
+  // The past solutions are often nearly parallel: GalerkinWarmStart's pseudo-inverse. The
+  // products are symmetric up to round-off.
   static_assert(kHistory == GalerkinWarmStart::kBasis);
-  const SmallVector combination = GalerkinWarmStart::coefficients(gram, projected);
-  solution_.setZero();
-  for (int j = 0; j < count; ++j) {  // a zero combination when it was not finite
-    solution_ += combination(j) * basis_[static_cast<std::size_t>(j)];
+  const Small symmetric = 0.5 * (gram + gram.transpose());
+  const SmallVector combination = GalerkinWarmStart::coefficients(symmetric, projected);
+  for (int v = 0; v < num_vertices_; ++v) {  // a zero combination when it was not finite
+    for (int a = 0; a < 3; ++a) {
+      solution_(3 * v + a) = combination.dot(basis_.col(v).segment<kHistory>(kHistory * a));
+    }
+  }
+}
+
+void SpringSystem::multiply_history() {
+  static_assert(kHistory % 2 == 0);
+  constexpr int kHalves = kHistory / 2;  // pairs of vectors
+  constexpr int kColumn = 3 * kHistory;
+  const Springs springs = springs_of(coefficients_);
+  const double* w = basis_.data();
+  double* out = basis_products_.data();
+  for (int v = 0; v < num_vertices_; ++v) {
+    for (int i = 0; i < kColumn; ++i) {
+      out[kColumn * v + i] = masses_(v) * w[kColumn * v + i];
+    }
+  }
+  for (std::size_t k = 0; k < penalty_vertices_.size(); ++k) {
+    const int v = penalty_vertices_[k];
+    for (int h = 0; h < kHistory; ++h) {
+      const Eigen::Map<const Eigen::Vector3d, 0, Eigen::InnerStride<kHistory>> value(w + kColumn * v
+                                                                                     + h);
+      Eigen::Map<Eigen::Vector3d, 0, Eigen::InnerStride<kHistory>> pushed(out + kColumn * v + h);
+      pushed += penalties_[k] * value;
+    }
+  }
+  for (int v = 0; v < num_vertices_; ++v) {
+    // Per spring, B_e (w_v - w_j) for every vector onto v (summed) and, negated, onto j.
+    Pair own[3][kHalves];
+    Pair sum[3][kHalves];
+    for (int a = 0; a < 3; ++a) {
+      for (int h = 0; h < kHalves; ++h) {
+        own[a][h] = load_pair(w + kColumn * v + kHistory * a + 2 * h);
+        sum[a][h] = Pair{0.0, 0.0};
+      }
+    }
+    for (int e = owned_offsets_[static_cast<std::size_t>(v)];
+         e < owned_offsets_[static_cast<std::size_t>(v) + 1]; ++e) {
+      const int j = others_[static_cast<std::size_t>(e)];
+      const Pair ux = {springs.ux[e], springs.ux[e]};
+      const Pair uy = {springs.uy[e], springs.uy[e]};
+      const Pair uz = {springs.uz[e], springs.uz[e]};
+      const Pair across = {springs.across[e], springs.across[e]};
+      for (int h = 0; h < kHalves; ++h) {
+        const double* wj = w + kColumn * j + 2 * h;
+        double* oj = out + kColumn * j + 2 * h;
+        const Pair r0 = own[0][h] - load_pair(wj);
+        const Pair r1 = own[1][h] - load_pair(wj + kHistory);
+        const Pair r2 = own[2][h] - load_pair(wj + 2 * kHistory);
+        const Pair along = ux * r0 + uy * r1 + uz * r2;
+        const Pair f0 = ux * along + across * r0;
+        const Pair f1 = uy * along + across * r1;
+        const Pair f2 = uz * along + across * r2;
+        sum[0][h] += f0;
+        sum[1][h] += f1;
+        sum[2][h] += f2;
+        store_pair(oj, load_pair(oj) - f0);
+        store_pair(oj + kHistory, load_pair(oj + kHistory) - f1);
+        store_pair(oj + 2 * kHistory, load_pair(oj + 2 * kHistory) - f2);
+      }
+    }
+    for (int a = 0; a < 3; ++a) {
+      for (int h = 0; h < kHalves; ++h) {
+        double* ov = out + kColumn * v + kHistory * a + 2 * h;
+        store_pair(ov, load_pair(ov) + sum[a][h]);
+      }
+    }
+  }
+  for (const int c : held_vertices_) {
+    for (int h = 0; h < kHistory; ++h) {
+      Eigen::Map<Eigen::Vector3d, 0, Eigen::InnerStride<kHistory>> value(out + kColumn * c + h);
+      value = filter(c, value);
+    }
   }
 }
 

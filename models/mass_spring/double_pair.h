@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: MIT
+#pragma once
+
+#include <cmath>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace softbench::mass_spring {
+
+/// Two doubles in one SSE2 register (GCC's and Clang's vector extension: portable, and plain
+/// scalar code where the target has no such registers). The spring loops take the springs two
+/// at a time: per-spring coefficients are contiguous, the vertices' values are gathered.
+using Pair = double __attribute__((vector_size(16)));
+
+inline Pair load_pair(const double* at) {
+  Pair pair;
+  std::memcpy(&pair, at, sizeof(pair));
+  return pair;
+}
+
+inline void store_pair(double* at, Pair pair) {
+  std::memcpy(at, &pair, sizeof(pair));
+}
+
+/// Lane by lane. SSE2's one instruction for both where the target has it: std::sqrt may set
+/// errno, so the compiler keeps a check and a library call per lane.
+inline Pair sqrt_pair(Pair pair) {
+#if defined(__SSE2__)
+  return _mm_sqrt_pd(pair);
+#else
+  return Pair{std::sqrt(pair[0]), std::sqrt(pair[1])};
+#endif
+}
+
+}  // namespace softbench::mass_spring
