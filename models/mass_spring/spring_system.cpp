@@ -133,7 +133,7 @@ SpringSystem::SpringSystem(int num_vertices, const Eigen::Matrix2Xi& springs)
   inverse_.setZero();
   const Eigen::Index size = 3 * static_cast<Eigen::Index>(num_vertices);
   for (Eigen::VectorXd* vector : {&rhs_, &known_, &solution_, &residual_, &preconditioned_,
-                                  &direction_, &product_, &sweep_, &carry_}) {
+                                  &direction_, &product_, &sweep_, &carry_, &transformed_}) {
     vector->setZero(size);
   }
   for (History* block : {&history_, &basis_, &basis_products_}) {
@@ -372,6 +372,7 @@ void SpringSystem::warm_start() {
   using Small = Eigen::Matrix<double, kHistory, kHistory>;
   using SmallVector = Eigen::Matrix<double, kHistory, 1>;
   solution_.setZero();
+  residual_ = rhs_;
   if (history_count_ == 0) {
     return;
   }
@@ -400,9 +401,13 @@ void SpringSystem::warm_start() {
   static_assert(kHistory == GalerkinWarmStart::kBasis);
   const Small symmetric = 0.5 * (gram + gram.transpose());
   const SmallVector combination = GalerkinWarmStart::coefficients(symmetric, projected);
-  for (int v = 0; v < num_vertices_; ++v) {  // a zero combination when it was not finite
+  // w0, and its residual from the products already made: S (b - A u_k) - S A S w0 (a zero
+  // combination when it was not finite).
+  for (int v = 0; v < num_vertices_; ++v) {
     for (int a = 0; a < 3; ++a) {
       solution_(3 * v + a) = combination.dot(basis_.col(v).segment<kHistory>(kHistory * a));
+      residual_(3 * v + a) -=
+          combination.dot(basis_products_.col(v).segment<kHistory>(kHistory * a));
     }
   }
 }
@@ -565,7 +570,6 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
                                      double reference_energy) {
   SolveReport report;
   const Eigen::Index size = rhs_.size();
-  const double* b = rhs_.data();
   const double* filtered = filtered_.data();
   const double* inverse = inverse_.data();
   double* w = solution_.data();
@@ -574,52 +578,47 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
   double* p = direction_.data();
   double* q = product_.data();
   double* t = sweep_.data();
-  double* g = carry_.data();
 
-  // The transformed unknown x^ = (D + U) w0 (into q), and r^ = (D + L)^-1 (b - A w0), which
-  // by A = (D + L) + U is (D + L)^-1 (b - U w0) - w0; U w0 = -S sum_owned B_e w_j.
+  // CG on the correction d = w - w0, from d0 = 0: its transform x^ = (D + U) d starts at 0 and
+  // r^ = (D + L)^-1 r0, with r0 = S (b - A w0) from the warm start (no product here).
+  double* x_hat = transformed_.data();
+  std::fill(x_hat, x_hat + size, 0.0);
   for (int v = 0; v < num_vertices_; ++v) {
-    double sum[3];
-    owned_sum(v, w, sum);
-    filter_in_place(v, sum);
-    double dw[3];
-    sym_multiply(filtered + 6 * v, w + 3 * v, dw);
-    for (int a = 0; a < 3; ++a) {
-      q[3 * v + a] = dw[a] - sum[a];
-      g[3 * v + a] = b[3 * v + a] + sum[a];
-    }
-  }
-  for (int v = 0; v < num_vertices_; ++v) {  // (D + L) y = g into r
-    double* y = r + 3 * v;
-    sym_multiply(inverse + 6 * v, g + 3 * v, y);
-    push_owned(v, y, g);
+    // (D + L) y = r0 in place: r0_v is read before y_v is written, and push_owned only changes
+    // higher vertices.
+    double y[3];
+    sym_multiply(inverse + 6 * v, r + 3 * v, y);
+    std::copy(y, y + 3, r + 3 * v);
+    push_owned(v, y, r);
   }
   const auto apply_d = [filtered](int v, const double* in, double* out) {
     sym_multiply(filtered + 6 * v, in, out);
   };
-  const EisenstatStart start = eisenstat_start(num_vertices_, r, w, r, z, p, apply_d);
-  std::copy(q, q + size, w);  // w now holds x^
+  const EisenstatStart start = eisenstat_start(num_vertices_, r, x_hat, r, z, p, apply_d);
   const double first_residual = std::sqrt(start.residual_squared);
 
   EnergyErrorEstimate estimate(reference_energy);
   report.converged = first_residual == 0.0;
   eisenstat_iterations(
-      num_vertices_, w, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance, max_iterations,
-      estimate, report,
+      num_vertices_, x_hat, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance,
+      max_iterations, estimate, report,
       [this](double beta) {
         backward_sweep(beta);
         return forward_sweep();
       },
       apply_d);
 
-  // w = (D + U)^-1 x^ ...
+  // w = w0 + (D + U)^-1 x^ ...
   for (int v = num_vertices_ - 1; v >= 0; --v) {
     double sum[3];
     owned_sum(v, t, sum);
-    const double total[3] = {w[3 * v] + sum[0], w[3 * v + 1] + sum[1], w[3 * v + 2] + sum[2]};
+    const double total[3] = {x_hat[3 * v] + sum[0], x_hat[3 * v + 1] + sum[1],
+                             x_hat[3 * v + 2] + sum[2]};
     sym_multiply(inverse + 6 * v, total, t + 3 * v);
   }
-  std::copy(t, t + size, w);
+  for (Eigen::Index i = 0; i < size; ++i) {
+    w[i] += t[i];
+  }
   // ... and the constrained system's residual (D + L) r^.
   for (int v = 0; v < num_vertices_; ++v) {
     sym_multiply(filtered + 6 * v, r + 3 * v, q + 3 * v);
@@ -772,15 +771,11 @@ SolveReport SpringSystem::solve_block_jacobi(double tolerance,
   double* z = preconditioned_.data();
   double* p = direction_.data();
   double* q = product_.data();
-  const double* b = rhs_.data();
 
-  filtered_multiply(w, q);
+  // r0 = S (b - A w0) from the warm start.
   double rz = 0.0;
   double residual_squared = 0.0;
   for (int v = 0; v < num_vertices_; ++v) {
-    for (int a = 0; a < 3; ++a) {
-      r[3 * v + a] = b[3 * v + a] - q[3 * v + a];
-    }
     sym_multiply(inverse_.col(v).data(), r + 3 * v, z + 3 * v);
     for (int a = 0; a < 3; ++a) {
       p[3 * v + a] = z[3 * v + a];
@@ -840,11 +835,16 @@ Eigen::Matrix3d SpringSystem::filter_matrix(int v) const {
 void SpringSystem::translation_correction(double* w, double* r) const {
   // Z^T A Z and Z^T r. A spring between two free vertices does not resist a translation
   // (Z_i - Z_j = 0): only the vertices' own terms and the springs at held vertices count.
-  Eigen::Matrix3d coarse = Eigen::Matrix3d::Zero();
+  // S m S = m S, which is m I but at the held vertices.
+  double mass = 0.0;
   Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
   for (int v = 0; v < num_vertices_; ++v) {
     residual_sum += Eigen::Map<const Eigen::Vector3d>(r + 3 * v);  // r = S r
-    coarse += masses_(v) * filter_matrix(v);                       // S m S = m S
+    mass += masses_(v);
+  }
+  Eigen::Matrix3d coarse = mass * Eigen::Matrix3d::Identity();
+  for (const int c : held_vertices_) {
+    coarse += masses_(c) * (filter_matrix(c) - Eigen::Matrix3d::Identity());
   }
   for (std::size_t k = 0; k < penalty_vertices_.size(); ++k) {
     coarse += penalties_[k];  // at free vertices (S = I)
@@ -859,16 +859,15 @@ void SpringSystem::translation_correction(double* w, double* r) const {
   }
   // w += Z c, and r -= S A Z c.
   for (int v = 0; v < num_vertices_; ++v) {
-    const Eigen::Vector3d moved = filter(v, shift);
-    Eigen::Vector3d pushed = masses_(v) * moved;
-    const int slot = slots_[static_cast<std::size_t>(v)];
-    if (slot >= 0 && kinds_[static_cast<std::size_t>(v)] == kFree) {
-      pushed += penalties_[static_cast<std::size_t>(slot)] * moved;
-    }
+    const Eigen::Vector3d moved =
+        kinds_[static_cast<std::size_t>(v)] == kFree ? shift : filter(v, shift);
     for (int a = 0; a < 3; ++a) {
       w[3 * v + a] += moved(a);
-      r[3 * v + a] -= pushed(a);
+      r[3 * v + a] -= masses_(v) * moved(a);
     }
+  }
+  for (std::size_t k = 0; k < penalty_vertices_.size(); ++k) {
+    Eigen::Map<Eigen::Vector3d>(r + 3 * penalty_vertices_[k]) -= penalties_[k] * shift;
   }
   for_each_held_spring([&](Eigen::Index e, int i, int j) {
     const Eigen::Vector3d force = spring_block(e) * (filter(i, shift) - filter(j, shift));
@@ -884,7 +883,7 @@ std::size_t SpringSystem::memory_bytes() const {
   const auto doubles =
       static_cast<std::size_t>(coefficients_.size() + masses_.size() + diagonal_.size()
                                + filtered_.size() + inverse_.size())
-      + (9 + 3 * static_cast<std::size_t>(kHistory)) * static_cast<std::size_t>(rhs_.size());
+      + (10 + 3 * static_cast<std::size_t>(kHistory)) * static_cast<std::size_t>(rhs_.size());
   return ints * sizeof(int) + doubles * sizeof(double) + kinds_.size()
          + (held_.capacity() + penalties_.capacity()) * sizeof(Eigen::Matrix3d);
 }

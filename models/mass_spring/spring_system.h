@@ -141,7 +141,9 @@ class SpringSystem {
 
   /// w0 = the combination of the filtered past solutions s_j closest to the solution in the
   /// energy norm: G c = h with G_ij = s_i . A s_j, h_i = s_i . S (b - A u_k) (a Galerkin
-  /// projection; no worse than any one of them, or their linear extrapolation). Into solution_.
+  /// projection; no worse than any one of them, or their linear extrapolation). Into solution_,
+  /// and its residual S (b - A u_k) - S A S w0 (from the same products) into residual_: the
+  /// solves start from it.
   void warm_start();
   SolveReport solve_ssor(double tolerance, int max_iterations, double reference_energy);
   SolveReport solve_block_jacobi(double tolerance, int max_iterations, double reference_energy);
@@ -210,13 +212,14 @@ class SpringSystem {
   // Work vectors (3 #V), sized once.
   Eigen::VectorXd rhs_;       ///< S (b - A u_k)
   Eigen::VectorXd known_;     ///< u_k
-  Eigen::VectorXd solution_;  ///< w (SSOR: its transform (D + U) w while iterating)
+  Eigen::VectorXd solution_;  ///< w (the warm start's w0 until the solve ends)
   Eigen::VectorXd residual_;
   Eigen::VectorXd preconditioned_;
   Eigen::VectorXd direction_;
   Eigen::VectorXd product_;
-  Eigen::VectorXd sweep_;  ///< SSOR: t of the backward sweep
-  Eigen::VectorXd carry_;  ///< SSOR: g, consumed by the forward sweep
+  Eigen::VectorXd sweep_;        ///< SSOR: t of the backward sweep
+  Eigen::VectorXd carry_;        ///< SSOR: g, consumed by the forward sweep
+  Eigen::VectorXd transformed_;  ///< SSOR: x^ = (D + U) (w - w0) while iterating
   // The warm start. Its vectors are interleaved, kHistory values per coordinate (a vertex's
   // column: x of each, then y, then z), so that one pass over the springs multiplies them all:
   // the springs' coefficients and the other ends' values are read once, not once per vector.
