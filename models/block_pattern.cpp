@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "models/block_pattern.h"
 
+#include "models/double_pair.h"
 #include "models/memory_bytes.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace softbench {
 
@@ -180,6 +183,114 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
     if (want_dots) {
       chunk_dots[static_cast<std::size_t>(chunk)] = dot;
     }
+  }
+}
+
+namespace {
+
+/// multiply_many()'s pass for K vectors (K even: they go two to a register): per vertex, the
+/// neighbours' values of every vector are gathered (interleaved, so each matrix value meets the
+/// K vectors' values side by side) and each of the vertex's three columns is applied to all of
+/// them.
+template <int K>
+void multiply_vectors(int num_vertices,
+                      int num_chunks,
+                      const double* values,
+                      const int* outer,
+                      const int* offsets,
+                      const int* neighbours,
+                      const std::array<const double*, K>& in,
+                      const std::array<double*, K>& out) {
+  static_assert(K % 2 == 0);
+  constexpr int kHalves = K / 2;
+  constexpr int kGatherDegree = 64;
+#pragma omp parallel for schedule(static) if (num_vertices > BlockPattern::kParallelVertices)
+  for (int chunk = 0; chunk < num_chunks; ++chunk) {
+    const int first = chunk * BlockPattern::kChunkVertices;
+    const int last = std::min(num_vertices, first + BlockPattern::kChunkVertices);
+    double gathered[3 * kGatherDegree * K];
+    for (int c = first; c < last; ++c) {
+      const int begin = offsets[c];
+      const int degree = offsets[c + 1] - begin;
+      const double* column0 = values + outer[3 * c];
+      const double* column1 = column0 + 3 * degree;
+      const double* column2 = column1 + 3 * degree;
+      Pair y[3][kHalves] = {};
+      // Blocks of at most kGatherDegree neighbours (nearly all: ~15 in a tet mesh).
+      for (int start = 0; start < degree; start += kGatherDegree) {
+        const int count = std::min(kGatherDegree, degree - start);
+        for (int slot = 0; slot < count; ++slot) {
+          const int n = neighbours[begin + start + slot];
+          for (int a = 0; a < 3; ++a) {
+            for (int k = 0; k < K; ++k) {
+              gathered[(3 * slot + a) * K + k] = in[static_cast<std::size_t>(k)][3 * n + a];
+            }
+          }
+        }
+        const int offset = 3 * start;
+        for (int i = 0; i < 3 * count; ++i) {
+          const Pair m0 = {column0[offset + i], column0[offset + i]};
+          const Pair m1 = {column1[offset + i], column1[offset + i]};
+          const Pair m2 = {column2[offset + i], column2[offset + i]};
+          for (int h = 0; h < kHalves; ++h) {
+            const Pair value = load_pair(gathered + i * K + 2 * h);
+            y[0][h] += m0 * value;
+            y[1][h] += m1 * value;
+            y[2][h] += m2 * value;
+          }
+        }
+      }
+      for (int k = 0; k < K; ++k) {
+        for (int a = 0; a < 3; ++a) {
+          out[static_cast<std::size_t>(k)][3 * c + a] = y[a][k / 2][k % 2];
+        }
+      }
+    }
+  }
+}
+
+template <int K>
+void multiply_vectors(const BlockPattern& pattern,
+                      const int* offsets,
+                      const int* neighbours,
+                      std::span<const Eigen::VectorXd* const> x,
+                      std::span<Eigen::VectorXd* const> y) {
+  std::array<const double*, K> in{};
+  std::array<double*, K> out{};
+  for (std::size_t k = 0; k < K; ++k) {
+    in[k] = x[k]->data();
+    out[k] = y[k]->data();
+  }
+  multiply_vectors<K>(pattern.num_vertices(), pattern.num_chunks(), pattern.matrix().valuePtr(),
+                      pattern.matrix().outerIndexPtr(), offsets, neighbours, in, out);
+}
+
+}  // namespace
+
+void BlockPattern::multiply_many(std::span<const Eigen::VectorXd* const> x,
+                                 std::span<Eigen::VectorXd* const> y) const {
+  if (x.size() != y.size() || x.size() > static_cast<std::size_t>(kManyVectors)) {
+    throw std::invalid_argument("BlockPattern::multiply_many: x and y must pair up, at most "
+                                + std::to_string(kManyVectors));
+  }
+  const int* offsets = neighbour_offsets_.data();
+  const int* neighbours = neighbours_.data();
+  switch (x.size()) {
+    case 0:
+      return;
+    case 1:
+      multiply(*x[0], *y[0]);
+      return;
+    case 2:
+      multiply_vectors<2>(*this, offsets, neighbours, x, y);
+      return;
+    case 3:  // two in one pass, and the third
+      multiply_vectors<2>(*this, offsets, neighbours, x, y);
+      multiply(*x[2], *y[2]);
+      return;
+    default:
+      multiply_vectors<4>(*this, offsets, neighbours, x, y);
+      return;
   }
 }
 

@@ -83,6 +83,14 @@ class BlockPattern {
                 Eigen::VectorXd& y,
                 std::span<double> chunk_dots = {}) const;
 
+  /// y[k] = A x[k] for every k (at most kManyVectors): multiply() for several vectors in one
+  /// pass over the matrix, each value read once and applied to all of them (the liver's matrix,
+  /// 1.3 MB, does not fit in L2). Deterministic and parallel as multiply() (its sums in another
+  /// fixed order: the two agree to round-off).
+  static constexpr int kManyVectors = 4;
+  void multiply_many(std::span<const Eigen::VectorXd* const> x,
+                     std::span<Eigen::VectorXd* const> y) const;
+
   /// Deterministic reductions split the 3N entries into chunks of this many vertices
   /// (multiply() and the CG vector loops).
   static constexpr int kChunkVertices = 256;

@@ -340,6 +340,8 @@ class CholeskyPcgSolver final : public SystemSolver {
 
 /// An iterative solver started from GalerkinWarmStart's guess, which remembers its solutions.
 class ProjectedWarmStartSolver final : public SystemSolver {
+  static_assert(GalerkinWarmStart::kBasis <= BlockPattern::kManyVectors);
+
  public:
   ProjectedWarmStartSolver(std::unique_ptr<SystemSolver> inner, const BlockPattern& pattern)
       : inner_(std::move(inner)), warm_start_(pattern.size()) {}
@@ -348,9 +350,9 @@ class ProjectedWarmStartSolver final : public SystemSolver {
                     const Eigen::VectorXd& b,
                     Eigen::VectorXd& x,
                     const double* offset) override {
-    warm_start_.improve(b, x, [&a](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-      a.multiply(in, out);
-    });
+    warm_start_.improve(b, x,
+                        [&a](std::span<const Eigen::VectorXd* const> in,
+                             std::span<Eigen::VectorXd* const> out) { a.multiply_many(in, out); });
     inner_->set_energy_floor(energy_floor());
     const SolveReport report = inner_->solve(a, b, x, offset);
     if (report.succeeded) {

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 
 namespace softbench {
 
@@ -32,21 +33,30 @@ class GalerkinWarmStart {
   /// Replaces `x` (the caller's guess on entry) by the best combination of it and the
   /// solutions remembered before the last one (the caller's guess is usually the last: its
   /// values at prescribed unknowns are right, the stored one's are last step's).
-  /// `multiply(in, out)` sets out = A in.
-  template <class Multiply>
-  void improve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const Multiply& multiply) {
+  /// `multiply(in, out)` sets *out[j] = A *in[j] for every j (spans of equal length, at most
+  /// kBasis): all the products at once, so the caller can make them in one pass.
+  template <class MultiplyMany>
+  void improve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const MultiplyMany& multiply) {
     if (count_ <= 1) {
       return;
     }
     const int count = count_;  // x, then the remembered ones from the second newest
+    std::array<const Eigen::VectorXd*, kBasis> basis{};
+    std::array<Eigen::VectorXd*, kBasis> products{};
+    for (int j = 0; j < count; ++j) {
+      basis[static_cast<std::size_t>(j)] = j == 0 ? &x : &remembered(j);
+      products[static_cast<std::size_t>(j)] = &products_[static_cast<std::size_t>(j)];
+    }
+    const auto used = static_cast<std::size_t>(count);
+    multiply(std::span<const Eigen::VectorXd* const>(basis.data(), used),
+             std::span<Eigen::VectorXd* const>(products.data(), used));
     Gram gram = Gram::Zero();
     Coefficients projected = Coefficients::Zero();
     for (int j = 0; j < count; ++j) {
-      const Eigen::VectorXd& basis = j == 0 ? x : remembered(j);
-      multiply(basis, product_);
-      projected(j) = basis.dot(b);
+      projected(j) = basis[static_cast<std::size_t>(j)]->dot(b);
       for (int i = 0; i <= j; ++i) {
-        gram(i, j) = (i == 0 ? x : remembered(i)).dot(product_);
+        gram(i, j) =
+            basis[static_cast<std::size_t>(i)]->dot(products_[static_cast<std::size_t>(j)]);
         gram(j, i) = gram(i, j);
       }
     }
@@ -75,7 +85,7 @@ class GalerkinWarmStart {
   }
 
   std::array<Eigen::VectorXd, kBasis> history_;
-  Eigen::VectorXd product_;  ///< A times the basis vector being added
+  std::array<Eigen::VectorXd, kBasis> products_;  ///< A times each basis vector
   Eigen::VectorXd guess_;
   int head_ = kBasis - 1;
   int count_ = 0;

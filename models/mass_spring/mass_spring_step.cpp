@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // One step of the mass-spring model: spring forces and their Jacobians, symplectic Euler, and
 // linearised backward Euler (Baraff & Witkin 1998) with exact constraints by elimination.
-#include "models/mass_spring/double_pair.h"
+#include "models/double_pair.h"
 #include "models/mass_spring/mass_spring_model.h"
 #include "models/phase_clock.h"
 

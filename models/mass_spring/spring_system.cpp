@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "models/mass_spring/spring_system.h"
 
+#include "models/double_pair.h"
 #include "models/eisenstat_cg.h"
-#include "models/mass_spring/double_pair.h"
 #include "models/warm_start.h"
 
 #include <Eigen/LU>

@@ -21,10 +21,11 @@
 namespace softbench {
 namespace {
 
-/// A pattern on a box of tets with symmetric random values in every block.
-BlockPattern random_symmetric_pattern(const TetMesh& mesh, unsigned seed) {
-  const Eigen::Matrix2Xi edges = unique_edges(mesh.tets());
-  BlockPattern pattern(mesh.num_vertices(), edges);
+/// A pattern on `edges` with symmetric random values in every block.
+BlockPattern random_symmetric_pattern(int num_vertices,
+                                      const Eigen::Matrix2Xi& edges,
+                                      unsigned seed) {
+  BlockPattern pattern(num_vertices, edges);
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> entry(-1.0, 1.0);
   const auto random_block = [&] {
@@ -34,7 +35,7 @@ BlockPattern random_symmetric_pattern(const TetMesh& mesh, unsigned seed) {
     }
     return block;
   };
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
+  for (int v = 0; v < num_vertices; ++v) {
     const Eigen::Matrix3d block = random_block();
     pattern.set(pattern.vertex_block(v), block + block.transpose());
   }
@@ -44,6 +45,46 @@ BlockPattern random_symmetric_pattern(const TetMesh& mesh, unsigned seed) {
     pattern.set(pattern.edge_block_transposed(e), block.transpose());
   }
   return pattern;
+}
+
+/// The same on a box of tets' edges.
+BlockPattern random_symmetric_pattern(const TetMesh& mesh, unsigned seed) {
+  return random_symmetric_pattern(mesh.num_vertices(), unique_edges(mesh.tets()), seed);
+}
+
+TEST(BlockPattern, MultiplyManyMatchesOneProductPerVector) {
+  // A box of tets (~15 neighbours a vertex), and a star whose centre has 150 neighbours: more
+  // than one gather buffer (64) holds.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(4, 3, 3));
+  constexpr int kLeaves = 150;
+  Eigen::Matrix2Xi star(2, kLeaves);
+  for (int leaf = 0; leaf < kLeaves; ++leaf) {
+    star.col(leaf) << 0, leaf + 1;
+  }
+  for (const BlockPattern& pattern :
+       {random_symmetric_pattern(mesh, 2), random_symmetric_pattern(kLeaves + 1, star, 3)}) {
+    std::vector<Eigen::VectorXd> x;
+    std::vector<Eigen::VectorXd> y;
+    for (int k = 0; k < BlockPattern::kManyVectors; ++k) {
+      x.push_back(Eigen::VectorXd::Random(pattern.size()));
+      y.push_back(Eigen::VectorXd::Zero(pattern.size()));
+    }
+    for (int count = 1; count <= BlockPattern::kManyVectors; ++count) {
+      std::vector<const Eigen::VectorXd*> in;
+      std::vector<Eigen::VectorXd*> out;
+      for (int k = 0; k < count; ++k) {
+        in.push_back(&x[static_cast<std::size_t>(k)]);
+        out.push_back(&y[static_cast<std::size_t>(k)]);
+      }
+      pattern.multiply_many(in, out);
+      for (int k = 0; k < count; ++k) {
+        Eigen::VectorXd expected(pattern.size());
+        pattern.multiply(x[static_cast<std::size_t>(k)], expected);
+        EXPECT_TRUE(y[static_cast<std::size_t>(k)].isApprox(expected, test::kRoundoff))
+            << count << " vectors, vector " << k;
+      }
+    }
+  }
 }
 
 TEST(BlockPattern, MultiplyMatchesTheSparseProductAndItsDot) {

@@ -3,11 +3,11 @@
 // A = m I + sum over edges of G_e^T B_e G_e (B_e a random symmetric positive semi-definite 3x3
 // block, G_e x = x_i - x_j) on a box of tets. Symmetric positive definite, with the sparsity and
 // the conditioning of a backward Euler system (the mass term m against the stiffness).
-#include "models/block_pattern.h"
 #include "models/system_solver.h"
-#include "models/warm_start.h"
 
 #include "geometry/mesh_topology.h"
+#include "models/block_pattern.h"
+#include "models/warm_start.h"
 #include "tests/test_meshes.h"
 
 #include <Eigen/Cholesky>
@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <random>
+#include <span>
 
 namespace softbench {
 namespace {
@@ -35,8 +36,8 @@ BlockSystem elastic_like_system(unsigned seed) {
   const MeshData box = test::box_tets(6, 4, 3);
   const Eigen::Matrix2Xi edges = unique_edges(box.tetrahedra);
   const auto num_vertices = static_cast<int>(box.vertices.cols());
-  BlockSystem system{BlockPattern(num_vertices, edges), Eigen::MatrixXd::Zero(3 * num_vertices,
-                                                                             3 * num_vertices)};
+  BlockSystem system{BlockPattern(num_vertices, edges),
+                     Eigen::MatrixXd::Zero(3 * num_vertices, 3 * num_vertices)};
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> entry(-1.0, 1.0);
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
@@ -90,14 +91,13 @@ TEST(SystemSolver, EachPreconditionerMeetsTheEnergyNormTolerance) {
   const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
   constexpr double kTolerance = 1e-6;
   for (const Preconditioner preconditioner : {Preconditioner::kJacobi, Preconditioner::kSsor}) {
-    const auto solver =
-        make_system_solver(cg_options(preconditioner, kTolerance), system.pattern);
+    const auto solver = make_system_solver(cg_options(preconditioner, kTolerance), system.pattern);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
     const SolveReport report = solver->solve(system.pattern, b, x, nullptr);
     EXPECT_TRUE(report.converged);
     // The estimate is a lower bound that tightens with its delay; a factor 10 covers its slack.
-    EXPECT_LT(energy_norm(system.dense, x - exact), 10.0 * kTolerance
-                                                        * energy_norm(system.dense, exact));
+    EXPECT_LT(energy_norm(system.dense, x - exact),
+              10.0 * kTolerance * energy_norm(system.dense, exact));
     // The reported residual is the system's, |b - A x| / |b| (Jacobi's updated recursively:
     // round-off apart), not the transformed one.
     EXPECT_NEAR(report.residual, (b - system.dense * x).norm() / b.norm(),
@@ -148,9 +148,11 @@ TEST(GalerkinWarmStart, FindsASolutionLyingInTheSpanOfItsVectors) {
   const Eigen::VectorXd solution = 0.2 * guess - 0.7 * old + 1.5 * older + 0.1 * oldest;
   const Eigen::VectorXd b = system.dense * solution;
   Eigen::VectorXd x = guess;
-  warm_start.improve(b, x, [&system](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-    system.pattern.multiply(in, out);
-  });
+  warm_start.improve(
+      b, x,
+      [&system](std::span<const Eigen::VectorXd* const> in, std::span<Eigen::VectorXd* const> out) {
+        system.pattern.multiply_many(in, out);
+      });
   EXPECT_LT((x - solution).norm(), 1e-9 * solution.norm());
 }
 
@@ -164,8 +166,9 @@ TEST(GalerkinWarmStart, IsNoFartherFromTheSolutionThanTheGuessAndForgets) {
     warm_start.remember(exact + 0.1 * random_vector(size, seed));
   }
   const Eigen::VectorXd guess = exact + 0.1 * random_vector(size, 20);
-  const auto multiply = [&system](const Eigen::VectorXd& in, Eigen::VectorXd& out) {
-    system.pattern.multiply(in, out);
+  const auto multiply = [&system](std::span<const Eigen::VectorXd* const> in,
+                                  std::span<Eigen::VectorXd* const> out) {
+    system.pattern.multiply_many(in, out);
   };
   Eigen::VectorXd x = guess;
   warm_start.improve(b, x, multiply);

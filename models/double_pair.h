@@ -8,7 +8,7 @@
 #include <emmintrin.h>
 #endif
 
-namespace softbench::mass_spring {
+namespace softbench {
 
 /// Two doubles in one SSE2 register (GCC's and Clang's vector extension: portable, and plain
 /// scalar code where the target has no such registers). The spring loops take the springs two
@@ -35,4 +35,4 @@ inline Pair sqrt_pair(Pair pair) {
 #endif
 }
 
-}  // namespace softbench::mass_spring
+}  // namespace softbench
