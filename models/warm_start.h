@@ -18,7 +18,7 @@ namespace softbench {
 /// the mass-spring model on the liver (each model's header has its figures).
 class GalerkinWarmStart {
  public:
-  /// How many vectors are combined. Each costs one product a solve.
+  /// How many vectors are combined: their products a solve, made together (improve()).
   static constexpr int kBasis = 4;
   using Gram = Eigen::Matrix<double, kBasis, kBasis>;
   using Coefficients = Eigen::Matrix<double, kBasis, 1>;

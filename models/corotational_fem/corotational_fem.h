@@ -95,8 +95,8 @@ struct CorotationalFemParams {
   /// faster than "ssor"; with one, 9% slower: bench/fem_bench.cpp).
   Preconditioner preconditioner = Preconditioner::kSsor;
   /// Iterative solvers: start each solve from the best combination (in the energy norm) of the
-  /// last step's velocity change and the three before it (models/warm_start.h; four products a
-  /// step) instead of the last one alone.
+  /// last step's velocity change and the three before it (models/warm_start.h; their four
+  /// products in one pass over the matrix a step) instead of the last one alone.
   bool projected_warm_start = true;
   /// Iterative solvers: stop once the estimated energy-norm error of the new velocity is below
   /// cg_tolerance times its energy norm (LinearSolverOptions::tolerance): the error that matters,

@@ -55,7 +55,8 @@ ParamTable<Params> make_param_table() {
               "parallel over vertices on large meshes.")
       .boolean("projected_warm_start", &Params::projected_warm_start,
                "iterative solvers: start from the best combination (energy norm) of the last "
-               "four velocity changes, four products a step, instead of the last one alone.")
+               "four velocity changes (their products in one pass over the matrix a step) instead "
+               "of the last one alone.")
       .number("cg_tolerance", &Params::cg_tolerance, Range{0.0, 1.0, false, false},
               "iterative solvers: the estimated energy-norm error of the step's new velocity, "
               "relative, at which they stop. 1e-3 matches CHOLMOD within 0.03% on the liver press "

@@ -34,8 +34,9 @@ namespace softbench {
 // The implicit step's "cg" solve is matrix-free (spring_system.h): CG on four coefficients per
 // spring, preconditioned by symmetric Gauss-Seidel in Eisenstat's form, warm-started from the
 // best combination of the last four solutions. Cost on the liver (1215 vertices, 6802 springs,
-// E 3000 Pa, dt 1/60 s, one core; bench/mass_spring_bench.cpp): ~0.6 ms a step, 6.5 iterations,
-// about a third of corotational_fem's step; models/README.md has the breakdown.
+// E 3000 Pa, dt 1/60 s, one core; bench/mass_spring_bench.cpp): 0.6-0.9 ms a step as the
+// machine's speed varies, 4.3 iterations, about 0.3x corotational_fem's step in the same run;
+// models/README.md has the breakdown.
 
 struct MassSpringParams {
   enum class StiffnessFrom { kGiven, kYoungModulus };
