@@ -151,6 +151,7 @@ void SpringSystem::bind(const VertexConstraints& constraints) {
   }
   held_vertices_.clear();
   held_.clear();
+  held_filters_.clear();
   penalty_vertices_.clear();
   penalties_.clear();
   for (const int v : constraints.vertices()) {
@@ -161,6 +162,11 @@ void SpringSystem::bind(const VertexConstraints& constraints) {
       slots_[vertex] = static_cast<int>(held_vertices_.size());
       held_vertices_.push_back(v);
       held_.push_back(constraint->held);
+      Eigen::Matrix3d filter_columns;
+      for (int a = 0; a < 3; ++a) {
+        filter_columns.col(a) = filter(v, Eigen::Vector3d::Unit(a));
+      }
+      held_filters_.push_back(filter_columns);
     } else if (is_penalty(constraint)) {
       slots_[vertex] = static_cast<int>(penalty_vertices_.size());
       penalty_vertices_.push_back(v);
@@ -824,14 +830,6 @@ SolveReport SpringSystem::solve_block_jacobi(double tolerance,
   return report;
 }
 
-Eigen::Matrix3d SpringSystem::filter_matrix(int v) const {
-  Eigen::Matrix3d filter_columns;
-  for (int a = 0; a < 3; ++a) {
-    filter_columns.col(a) = filter(v, Eigen::Vector3d::Unit(a));
-  }
-  return filter_columns;
-}
-
 void SpringSystem::translation_correction(double* w, double* r) const {
   // Z^T A Z and Z^T r. A spring between two free vertices does not resist a translation
   // (Z_i - Z_j = 0): only the vertices' own terms and the springs at held vertices count.
@@ -850,6 +848,16 @@ void SpringSystem::translation_correction(double* w, double* r) const {
     coarse += penalties_[k];  // at free vertices (S = I)
   }
   for_each_held_spring([&](Eigen::Index e, int i, int j) {
+    const Kind first = kinds_[static_cast<std::size_t>(i)];
+    const Kind second = kinds_[static_cast<std::size_t>(j)];
+    if (first != kSliding && second != kSliding) {
+      // S_i - S_j is +-I between a free and a fixed vertex (the usual held spring), 0 between
+      // two fixed ones.
+      if ((first == kFree) != (second == kFree)) {
+        coarse += spring_block(e);
+      }
+      return;
+    }
     const Eigen::Matrix3d difference = filter_matrix(i) - filter_matrix(j);
     coarse += difference.transpose() * spring_block(e) * difference;
   });
@@ -885,7 +893,8 @@ std::size_t SpringSystem::memory_bytes() const {
                                + filtered_.size() + inverse_.size())
       + (10 + 3 * static_cast<std::size_t>(kHistory)) * static_cast<std::size_t>(rhs_.size());
   return ints * sizeof(int) + doubles * sizeof(double) + kinds_.size()
-         + (held_.capacity() + penalties_.capacity()) * sizeof(Eigen::Matrix3d);
+         + (held_.capacity() + held_filters_.capacity() + penalties_.capacity())
+               * sizeof(Eigen::Matrix3d);
 }
 
 }  // namespace softbench::mass_spring

@@ -168,9 +168,15 @@ class SpringSystem {
       }
     }
   }
-  /// S_v as a matrix (filter()'s columns): I at a free vertex, 0 at a fully held one, I - H at
-  /// a sliding one.
-  Eigen::Matrix3d filter_matrix(int v) const;
+  /// S_v as a matrix: I at a free vertex, 0 at a fully held one, I - H at a sliding one
+  /// (filter()'s columns, made once a step by bind()).
+  const Eigen::Matrix3d& filter_matrix(int v) const {
+    const int slot = slots_[static_cast<std::size_t>(v)];
+    return kinds_[static_cast<std::size_t>(v)] == kFree
+               ? kIdentity
+               : held_filters_[static_cast<std::size_t>(slot)];
+  }
+  static inline const Eigen::Matrix3d kIdentity = Eigen::Matrix3d::Identity();
   /// The coarse correction on the rigid translations Z = S [e_x e_y e_z] that ends a solve:
   /// w += Z c with Z^T A Z c = Z^T r (the A-orthogonal projection, which never increases the
   /// error's energy norm), and the residual r updated. No stiffness resists a translation, so
@@ -203,11 +209,12 @@ class SpringSystem {
   Eigen::Matrix<double, 6, Eigen::Dynamic> filtered_;  ///< S D_v S (D_v at a free vertex)
   Eigen::Matrix<double, 6, Eigen::Dynamic> inverse_;   ///< (S D_v S)^+: 0 at a fully held vertex
   std::vector<Kind> kinds_;
-  std::vector<int> slots_;                  ///< per vertex: its entry in the lists below, or -1
-  std::vector<int> held_vertices_;          ///< exactly held vertices, bind() order
-  std::vector<Eigen::Matrix3d> held_;       ///< per held vertex: H (I at a fully held one)
-  std::vector<int> penalty_vertices_;       ///< vertices held by a penalty spring
-  std::vector<Eigen::Matrix3d> penalties_;  ///< per penalty vertex: its block
+  std::vector<int> slots_;                     ///< per vertex: its entry in the lists below, or -1
+  std::vector<int> held_vertices_;             ///< exactly held vertices, bind() order
+  std::vector<Eigen::Matrix3d> held_;          ///< per held vertex: H (I at a fully held one)
+  std::vector<Eigen::Matrix3d> held_filters_;  ///< per held vertex: S (filter_matrix())
+  std::vector<int> penalty_vertices_;          ///< vertices held by a penalty spring
+  std::vector<Eigen::Matrix3d> penalties_;     ///< per penalty vertex: its block
 
   // Work vectors (3 #V), sized once.
   Eigen::VectorXd rhs_;       ///< S (b - A u_k)
