@@ -90,6 +90,7 @@ SpringSystem::SpringSystem(int num_vertices, const Eigen::Matrix2Xi& springs)
     : num_vertices_(num_vertices),
       owned_offsets_(static_cast<std::size_t>(num_vertices) + 1, 0),
       others_(static_cast<std::size_t>(springs.cols())),
+      other_coordinates_(static_cast<std::size_t>(springs.cols())),
       firsts_(static_cast<std::size_t>(springs.cols())),
       incident_offsets_(static_cast<std::size_t>(num_vertices) + 1, 0),
       coefficients_(springs.cols(), 4),
@@ -111,6 +112,7 @@ SpringSystem::SpringSystem(int num_vertices, const Eigen::Matrix2Xi& springs)
     }
     firsts_[static_cast<std::size_t>(e)] = i;
     others_[static_cast<std::size_t>(e)] = j;
+    other_coordinates_[static_cast<std::size_t>(e)] = 3 * j;
     ++owned_offsets_[static_cast<std::size_t>(i) + 1];
     ++incident_offsets_[static_cast<std::size_t>(i) + 1];
     ++incident_offsets_[static_cast<std::size_t>(j) + 1];
@@ -499,8 +501,8 @@ void SpringSystem::multiply_history() {
   Pair a1 = {0.0, 0.0};
   Pair a2 = {0.0, 0.0};
   for (; e + 1 < end; e += 2) {
-    const double* x1 = x + 3 * others_[static_cast<std::size_t>(e)];
-    const double* x2 = x + 3 * others_[static_cast<std::size_t>(e) + 1];
+    const double* x1 = x + other_coordinates_[static_cast<std::size_t>(e)];
+    const double* x2 = x + other_coordinates_[static_cast<std::size_t>(e) + 1];
     const Pair xx = {x1[0], x2[0]};
     const Pair xy = {x1[1], x2[1]};
     const Pair xz = {x1[2], x2[2]};
@@ -518,7 +520,7 @@ void SpringSystem::multiply_history() {
   sum[2] = a2[0] + a2[1];
   if (e < end) {
     double f[3];
-    springs.apply(e, x + 3 * others_[static_cast<std::size_t>(e)], f);
+    springs.apply(e, x + other_coordinates_[static_cast<std::size_t>(e)], f);
     sum[0] += f[0];
     sum[1] += f[1];
     sum[2] += f[2];
@@ -543,8 +545,8 @@ void SpringSystem::multiply_history() {
     const Pair fx = ux * along + across * y0;
     const Pair fy = uy * along + across * y1;
     const Pair fz = uz * along + across * y2;
-    double* o1 = out + 3 * others_[static_cast<std::size_t>(e)];
-    double* o2 = out + 3 * others_[static_cast<std::size_t>(e) + 1];
+    double* o1 = out + other_coordinates_[static_cast<std::size_t>(e)];
+    double* o2 = out + other_coordinates_[static_cast<std::size_t>(e) + 1];
     o1[0] += fx[0];
     o1[1] += fy[0];
     o1[2] += fz[0];
@@ -555,7 +557,7 @@ void SpringSystem::multiply_history() {
   if (e < end) {
     double f[3];
     springs.apply(e, y, f);
-    double* o = out + 3 * others_[static_cast<std::size_t>(e)];
+    double* o = out + other_coordinates_[static_cast<std::size_t>(e)];
     o[0] += f[0];
     o[1] += f[1];
     o[2] += f[2];
@@ -713,8 +715,8 @@ double SpringSystem::filtered_multiply(const double* w, double* out) const {
     Pair a1 = {0.0, 0.0};
     Pair a2 = {0.0, 0.0};
     for (; e + 1 < end; e += 2) {
-      const double* w1 = w + 3 * others_[static_cast<std::size_t>(e)];
-      const double* w2 = w + 3 * others_[static_cast<std::size_t>(e) + 1];
+      const double* w1 = w + other_coordinates_[static_cast<std::size_t>(e)];
+      const double* w2 = w + other_coordinates_[static_cast<std::size_t>(e) + 1];
       const Pair r0 = x0 - Pair{w1[0], w2[0]};
       const Pair r1 = x1 - Pair{w1[1], w2[1]};
       const Pair r2 = x2 - Pair{w1[2], w2[2]};
@@ -729,8 +731,8 @@ double SpringSystem::filtered_multiply(const double* w, double* out) const {
       a0 += f0;
       a1 += f1;
       a2 += f2;
-      double* o1 = out + 3 * others_[static_cast<std::size_t>(e)];
-      double* o2 = out + 3 * others_[static_cast<std::size_t>(e) + 1];
+      double* o1 = out + other_coordinates_[static_cast<std::size_t>(e)];
+      double* o2 = out + other_coordinates_[static_cast<std::size_t>(e) + 1];
       o1[0] -= f0[0];
       o1[1] -= f1[0];
       o1[2] -= f2[0];
@@ -885,9 +887,9 @@ void SpringSystem::translation_correction(double* w, double* r) const {
 }
 
 std::size_t SpringSystem::memory_bytes() const {
-  const auto ints = owned_offsets_.size() + others_.size() + firsts_.size()
-                    + incident_offsets_.size() + incident_springs_.size() + slots_.size()
-                    + held_vertices_.capacity() + penalty_vertices_.capacity();
+  const auto ints = owned_offsets_.size() + others_.size() + other_coordinates_.size()
+                    + firsts_.size() + incident_offsets_.size() + incident_springs_.size()
+                    + slots_.size() + held_vertices_.capacity() + penalty_vertices_.capacity();
   const auto doubles =
       static_cast<std::size_t>(coefficients_.size() + masses_.size() + diagonal_.size()
                                + filtered_.size() + inverse_.size())

@@ -196,6 +196,9 @@ class SpringSystem {
   // Springs by first vertex: vertex v owns [owned_offsets_[v], owned_offsets_[v + 1]).
   std::vector<int> owned_offsets_;
   std::vector<int> others_;  ///< per spring: its second vertex
+  /// per spring: 3 x its second vertex, where its coordinates start (the sweeps' and products'
+  /// gathers: one load instead of a load, a multiply and two address computations)
+  std::vector<int> other_coordinates_;
   std::vector<int> firsts_;  ///< per spring: its first vertex
   std::vector<int> incident_offsets_;
   std::vector<int> incident_springs_;
