@@ -192,27 +192,29 @@ void SpringSystem::prepare() {
   for (std::size_t k = 0; k < penalty_vertices_.size(); ++k) {
     diagonal_.col(penalty_vertices_[k]) += to_sym(penalties_[k]);
   }
-  // Each spring's block onto both its vertices' (one pass over the springs, in order).
+  // Each spring's block onto both its vertices' (one pass over the springs, in order), as three
+  // pairs: (xx, yy), (zz, xy), (xz, yz).
   const Springs springs = springs_of(coefficients_);
   double* diagonal = diagonal_.data();
   for (int v = 0; v < num_vertices_; ++v) {
-    double own[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    Pair own[3] = {};
     for (int e = owned_offsets_[static_cast<std::size_t>(v)];
          e < owned_offsets_[static_cast<std::size_t>(v) + 1]; ++e) {
       const double ux = springs.ux[e];
       const double uy = springs.uy[e];
       const double uz = springs.uz[e];
       const double across = springs.across[e];
-      const double block[6] = {ux * ux + across, uy * uy + across, uz * uz + across,
-                               ux * uy,          ux * uz,          uy * uz};
+      const Pair xy = {ux, uy};
+      const Pair block[3] = {xy * xy + across, Pair{uz, ux} * Pair{uz, uy} + Pair{across, 0.0},
+                             xy * Pair{uz, uz}};
       double* other = diagonal + 6 * others_[static_cast<std::size_t>(e)];
-      for (int a = 0; a < 6; ++a) {
-        own[a] += block[a];
-        other[a] += block[a];
+      for (int h = 0; h < 3; ++h) {
+        own[h] += block[h];
+        store_pair(other + 2 * h, load_pair(other + 2 * h) + block[h]);
       }
     }
-    for (int a = 0; a < 6; ++a) {
-      diagonal[6 * v + a] += own[a];
+    for (int h = 0; h < 3; ++h) {
+      store_pair(diagonal + 6 * v + 2 * h, load_pair(diagonal + 6 * v + 2 * h) + own[h]);
     }
   }
   for (int v = 0; v < num_vertices_; ++v) {
