@@ -120,6 +120,27 @@ Eigen::Matrix3d BlockPattern::get(const BlockEntries& where) const {
   return block;
 }
 
+namespace {
+
+/// Vertex c's neighbours [begin, begin + degree) and its three columns in the value array:
+/// strips of 3 values per neighbour, column after column (BlockPattern's layout).
+struct VertexColumns {
+  int begin;
+  int degree;
+  const double* column0;
+  const double* column1;
+  const double* column2;
+};
+
+VertexColumns vertex_columns(const double* values, const int* outer, const int* offsets, int c) {
+  const int begin = offsets[c];
+  const int degree = offsets[c + 1] - begin;
+  const double* column0 = values + outer[3 * c];
+  return {begin, degree, column0, column0 + 3 * degree, column0 + 6 * degree};
+}
+
+}  // namespace
+
 void BlockPattern::multiply(const Eigen::VectorXd& x,
                             Eigen::VectorXd& y,
                             std::span<double> chunk_dots) const {
@@ -142,12 +163,8 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
     double dot = 0.0;
     double gathered[3 * kGatherDegree];
     for (int c = first; c < last; ++c) {
-      const int begin = offsets[c];
-      const int degree = offsets[c + 1] - begin;
-      // The three columns of vertex c: strips of 3 values per neighbour, column after column.
-      const double* column0 = values + outer[3 * c];
-      const double* column1 = column0 + 3 * degree;
-      const double* column2 = column1 + 3 * degree;
+      const auto [begin, degree, column0, column1, column2] =
+          vertex_columns(values, outer, offsets, c);
       double y0 = 0.0;
       double y1 = 0.0;
       double y2 = 0.0;
@@ -210,11 +227,8 @@ void multiply_vectors(int num_vertices,
     const int last = std::min(num_vertices, first + BlockPattern::kChunkVertices);
     double gathered[3 * kGatherDegree * K];
     for (int c = first; c < last; ++c) {
-      const int begin = offsets[c];
-      const int degree = offsets[c + 1] - begin;
-      const double* column0 = values + outer[3 * c];
-      const double* column1 = column0 + 3 * degree;
-      const double* column2 = column1 + 3 * degree;
+      const auto [begin, degree, column0, column1, column2] =
+          vertex_columns(values, outer, offsets, c);
       Pair y[3][kHalves] = {};
       // Blocks of at most kGatherDegree neighbours (nearly all: ~15 in a tet mesh).
       for (int start = 0; start < degree; start += kGatherDegree) {
