@@ -163,8 +163,13 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
     double dot = 0.0;
     double gathered[3 * kGatherDegree];
     for (int c = first; c < last; ++c) {
-      const auto [begin, degree, column0, column1, column2] =
-          vertex_columns(values, outer, offsets, c);
+      // Not structured bindings: clang cannot capture those in the omp simd loop.
+      const VertexColumns columns = vertex_columns(values, outer, offsets, c);
+      const int begin = columns.begin;
+      const int degree = columns.degree;
+      const double* column0 = columns.column0;
+      const double* column1 = columns.column1;
+      const double* column2 = columns.column2;
       double y0 = 0.0;
       double y1 = 0.0;
       double y2 = 0.0;
@@ -227,14 +232,13 @@ void multiply_vectors(int num_vertices,
     const int last = std::min(num_vertices, first + BlockPattern::kChunkVertices);
     double gathered[3 * kGatherDegree * K];
     for (int c = first; c < last; ++c) {
-      const auto [begin, degree, column0, column1, column2] =
-          vertex_columns(values, outer, offsets, c);
+      const VertexColumns columns = vertex_columns(values, outer, offsets, c);
       Pair y[3][kHalves] = {};
       // Blocks of at most kGatherDegree neighbours (nearly all: ~15 in a tet mesh).
-      for (int start = 0; start < degree; start += kGatherDegree) {
-        const int count = std::min(kGatherDegree, degree - start);
+      for (int start = 0; start < columns.degree; start += kGatherDegree) {
+        const int count = std::min(kGatherDegree, columns.degree - start);
         for (int slot = 0; slot < count; ++slot) {
-          const int n = neighbours[begin + start + slot];
+          const int n = neighbours[columns.begin + start + slot];
           for (int a = 0; a < 3; ++a) {
             for (int k = 0; k < K; ++k) {
               gathered[(3 * slot + a) * K + k] = in[static_cast<std::size_t>(k)][3 * n + a];
@@ -243,9 +247,9 @@ void multiply_vectors(int num_vertices,
         }
         const int offset = 3 * start;
         for (int i = 0; i < 3 * count; ++i) {
-          const Pair m0 = {column0[offset + i], column0[offset + i]};
-          const Pair m1 = {column1[offset + i], column1[offset + i]};
-          const Pair m2 = {column2[offset + i], column2[offset + i]};
+          const Pair m0 = {columns.column0[offset + i], columns.column0[offset + i]};
+          const Pair m1 = {columns.column1[offset + i], columns.column1[offset + i]};
+          const Pair m2 = {columns.column2[offset + i], columns.column2[offset + i]};
           for (int h = 0; h < kHalves; ++h) {
             const Pair value = load_pair(gathered + i * K + 2 * h);
             y[0][h] += m0 * value;

@@ -5,6 +5,7 @@
 #include "models/eisenstat_cg.h"
 #include "models/warm_start.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <algorithm>
