@@ -11,8 +11,8 @@
 namespace softbench {
 
 /// Two doubles in one SSE2 register (GCC's and Clang's vector extension: portable, and plain
-/// scalar code where the target has no such registers). The spring loops take the springs two
-/// at a time: per-spring coefficients are contiguous, the vertices' values are gathered.
+/// scalar code where the target has no such registers): the mass-spring loops take two springs
+/// at a time, the block products two vectors at a time.
 using Pair = double __attribute__((vector_size(16)));
 
 inline Pair load_pair(const double* at) {
