@@ -60,7 +60,8 @@ Eigen::Matrix3Xd surface_samples(const TriMesh& mesh, double spacing) {
     const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
     const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
     const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t));
-    const double n = std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / spacing);
+    const double n =
+        std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / spacing);
     count += 0.5 * (n + 1.0) * (n + 2.0);
   }
   if (!(count <= kMaxSamples)) {
@@ -125,6 +126,10 @@ constexpr double kPointSlack = 0.25;
 // tissue and still push it, in sample spacings (half mean edges, 2.4 mm on the liver): what an
 // earlier step's contact left when its passes ran out. Deeper, it is behind a fold.
 constexpr double kFoldDepth = 4.0;
+// m: added to the reach of the tests that skip a step's contact work when tissue and instrument
+// are far apart. A sample point, made from the instrument's vertices by a weighted sum, can round
+// past their box by an ulp; this is a billion of those.
+constexpr double kBoxSlack = 1e-9;
 
 }  // namespace
 
@@ -184,8 +189,8 @@ bool InstrumentContact::behind_fold(Eigen::Index sample,
     corners = std::max(corners, (predicted_.col(vertex) - start_.col(vertex)).norm());
   }
   const Eigen::Vector3d local = samples_local_.col(sample);
-  const double reach = (start_pose_ * local - pose * local).norm() + corners
-                       + 2.0 * options_.margin + kFoldDepth * spacing_;
+  const double reach = (start_pose_ * local - pose * local).norm() + corners + 2.0 * options_.margin
+                       + kFoldDepth * spacing_;
   return -nearest.signed_distance > reach;
 }
 
@@ -249,7 +254,7 @@ void InstrumentContact::propose(int vertex,
 void InstrumentContact::resolve_tissue_vertices(const Eigen::Isometry3d& pose,
                                                 const Eigen::Matrix3Xd& positions) {
   const double margin = options_.margin;
-  const Aabb reach = inflated(instrument_tree_.nodes().front().box, 2.0 * margin);
+  const Aabb reach = inflated(instrument_box_, 2.0 * margin);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (int vertex : surface_vertices_) {
     const Eigen::Vector3d x = positions.col(vertex);
@@ -326,6 +331,13 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
   }
 }
 
+void InstrumentContact::place_samples(const Eigen::Isometry3d& pose) {
+  if (!samples_placed_) {
+    samples_world_ = pose * samples_local_;
+    samples_placed_ = true;
+  }
+}
+
 const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometry3d& pose,
                                                             const Eigen::Matrix3Xd& positions,
                                                             const Eigen::Matrix3Xd& velocities,
@@ -346,23 +358,35 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   start_ = positions;  // same size every step: no allocation after the first
   start_pose_ = last_pose_;
   instrument_world_ = pose * instrument_local_;
-  samples_world_ = pose * samples_local_;
+  instrument_box_ = fit_aabb(instrument_world_);
+  samples_placed_ = false;
   tissue_motion_ = largest_move(positions, predicted_);
   tool_motion_ = largest_move(instrument_local_, start_pose_, pose);
-  instrument_tree_.refit(instrument_world_);
-  tissue_distance_.update(positions);
-  predicted_distance_.update(predicted_);
-  collide(tissue_distance_.tree(), positions, instrument_tree_, instrument_world_, buffers_,
-          pairs_);
-  report_.triangle_pairs = static_cast<int>(pairs_.size());
-
   for (const int vertex : dropped_vertices_) {
     dropped_[static_cast<std::size_t>(vertex)] = 0;
   }
   dropped_vertices_.clear();
   moved_.clear();
-  resolve_tissue_vertices(pose, positions);
-  resolve_instrument_vertices(pose);
+  // Nothing held and the instrument farther than the contact's reach from the tissue, where the
+  // step starts and in its free flight: no vertex or instrument point would be tested, no
+  // triangle pair can intersect, and the trees are left as they are (refitted when the
+  // instrument comes near). The work is then O(#V), whatever the tissue's size.
+  report_.triangle_pairs = 0;
+  report_.searched = !targets_.empty()
+                     || overlap(inflated(merge(fit_aabb(positions), fit_aabb(predicted_)),
+                                         2.0 * options_.margin + kBoxSlack),
+                                instrument_box_);
+  if (report_.searched) {
+    place_samples(pose);
+    instrument_tree_.refit(instrument_world_);
+    tissue_distance_.update(positions);
+    predicted_distance_.update(predicted_);
+    collide(tissue_distance_.tree(), positions, instrument_tree_, instrument_world_, buffers_,
+            pairs_);
+    report_.triangle_pairs = static_cast<int>(pairs_.size());
+    resolve_tissue_vertices(pose, positions);
+    resolve_instrument_vertices(pose);
+  }
   for (const VertexTarget& target : targets_) {
     pressed_[static_cast<std::size_t>(target.vertex)] = 0;
   }
@@ -411,7 +435,7 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
     target_index_[static_cast<std::size_t>(targets_[k].vertex)] = static_cast<int>(k);
   }
   const double margin = options_.margin;
-  const Aabb reach = inflated(instrument_tree_.nodes().front().box, margin);
+  const Aabb reach = inflated(instrument_box_, margin);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (const int vertex : surface_vertices_) {
     const auto v = static_cast<std::size_t>(vertex);
@@ -445,6 +469,12 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
 bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
                                                   const Eigen::Matrix3Xd& positions) {
   const double margin = options_.margin;
+  // Every instrument point lies in the instrument's box: none can be inside tissue farther away
+  // than the margin, and the tree need not be refitted to know it.
+  if (!overlap(inflated(fit_aabb(positions), margin + kBoxSlack), instrument_box_)) {
+    return false;
+  }
+  place_samples(pose);
   tissue_distance_.update(positions);
   const Aabb reach = inflated(tissue_distance_.bounds(), margin);
   // A point deeper than this is behind a fold (cull_radius).
@@ -477,10 +507,10 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
       if (w(corner) <= 0.0) {
         continue;
       }
-      const VertexTarget hold{corners(corner),
-                              positions.col(corners(corner))
-                                  + (w(corner) / weight_norm * shortfall) * inward,
-                              inward, /*slides=*/false};
+      const VertexTarget hold{
+          corners(corner),
+          positions.col(corners(corner)) + (w(corner) / weight_norm * shortfall) * inward, inward,
+          /*slides=*/false};
       if (target_index_[v] < 0) {
         target_index_[v] = static_cast<int>(targets_.size());
         targets_.push_back(hold);
@@ -509,8 +539,12 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
 ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
                                          const Eigen::Matrix3Xd& positions) {
   ContactReport report;
+  instrument_world_ = pose * instrument_local_;
+  const Aabb instrument_box = fit_aabb(instrument_world_);
+  if (!overlap(inflated(fit_aabb(positions), kBoxSlack), instrument_box)) {
+    return report;  // apart: nothing penetrates (no tree refitted to say so)
+  }
   const Eigen::Matrix3Xd world = pose * samples_local_;
-  const Aabb instrument_box = fit_aabb(world);
   const Eigen::Isometry3d to_local = pose.inverse();
   for (int vertex : surface_vertices_) {
     if (!instrument_box.contains(positions.col(vertex))) {

@@ -63,6 +63,10 @@ struct VertexTarget {
 struct ContactReport {
   int triangle_pairs = 0;        ///< intersecting tissue-instrument triangle pairs (resolve)
   double max_penetration = 0.0;  ///< m: the deepest tissue vertex or instrument point (measure)
+  /// Whether the step's trees were refitted and searched (resolve): not when nothing was held
+  /// and the instrument was out of the contact's reach of the tissue, at the step's start and in
+  /// its free flight.
+  bool searched = false;
 };
 
 struct InstrumentContactOptions {
@@ -154,7 +158,12 @@ class InstrumentContact {
   double spacing_;                  ///< m: half the tissue surface's mean edge at rest
   Eigen::Matrix3Xd samples_local_;  ///< points on the instrument's surface (vertices and more)
   Eigen::Matrix3Xd sample_normals_local_;  ///< the instrument's outward pseudonormal at each sample
-  Eigen::Matrix3Xd samples_world_;
+  Eigen::Matrix3Xd samples_world_;         ///< at this step's pose once place_samples() made them
+  bool samples_placed_ = false;
+  /// samples_world_ at `pose` (the step's), unless made already this step: a step whose
+  /// instrument is far from the tissue needs none.
+  void place_samples(const Eigen::Isometry3d& pose);
+  Aabb instrument_box_;         ///< the instrument's world box at this step's pose
   SampleClearance clearance_;   ///< what is known of each sample's distance without a query
   double tissue_motion_ = 0.0;  ///< m: this step's largest free-flight move of a tissue vertex
   double tool_motion_ = 0.0;    ///< m: this step's largest move of an instrument vertex
@@ -166,12 +175,12 @@ class InstrumentContact {
   std::vector<Eigen::Vector3d> last_push_;  ///< per tissue vertex: its push last step
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d start_pose_ = Eigen::Isometry3d::Identity();  ///< the pose a step starts at
-  Eigen::Matrix3Xd start_;  ///< the tissue at the step's start
+  Eigen::Matrix3Xd start_;             ///< the tissue at the step's start
   std::vector<char> has_move_;         ///< per tissue vertex: a move was proposed this step
   std::vector<Eigen::Vector3d> move_;  ///< per tissue vertex: this step's largest move
   std::vector<Eigen::Vector3d> push_;
   std::vector<char> slides_;  ///< per tissue vertex: this step's largest move may slide
-  std::vector<int> moved_;  ///< vertices with a move this step
+  std::vector<int> moved_;    ///< vertices with a move this step
   std::vector<VertexTarget> targets_;
   ContactReport report_;
 };

@@ -31,6 +31,30 @@ double corner_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
   return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
+// CSR offsets of the items listed in `owners` (each entry the owner of the item at its
+// position: a corner's vertex, a triangle side's edge) over `count` owners.
+std::vector<int> incidence_offsets(const auto& owners, Eigen::Index count) {
+  std::vector<int> offsets(static_cast<std::size_t>(count) + 1, 0);
+  for (const int owner : owners) {
+    ++offsets[static_cast<std::size_t>(owner) + 1];
+  }
+  for (std::size_t k = 0; k + 1 < offsets.size(); ++k) {
+    offsets[k + 1] += offsets[k];
+  }
+  return offsets;
+}
+
+// Each owner's items (their positions in `owners`: triangle * 3 + k), in increasing order.
+std::vector<int> incidences(const auto& owners, const std::vector<int>& offsets) {
+  std::vector<int> items(static_cast<std::size_t>(offsets.back()));
+  std::vector<int> next(offsets.begin(), offsets.end() - 1);
+  int item = 0;
+  for (const int owner : owners) {
+    items[static_cast<std::size_t>(next[static_cast<std::size_t>(owner)]++)] = item++;
+  }
+  return items;
+}
+
 }  // namespace
 
 MeshDistance::MeshDistance(const Eigen::Matrix3Xd& positions,
@@ -48,27 +72,13 @@ MeshDistance::MeshDistance(const Eigen::Matrix3Xd& positions,
       triangle_edges_(k, t) = it->second;
     }
   }
-  edge_normals_.resize(3, static_cast<Eigen::Index>(edge_index.size()));
-  // Each vertex's corners (triangle * 3 + k), in the order compute_pseudonormals used to sum
-  // them (triangle by triangle), so the lazy sum is bit for bit the same.
-  corner_offsets_.assign(static_cast<std::size_t>(positions.cols()) + 1, 0);
-  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      ++corner_offsets_[static_cast<std::size_t>(triangles(k, t)) + 1];
-    }
-  }
-  for (std::size_t v = 0; v + 1 < corner_offsets_.size(); ++v) {
-    corner_offsets_[v + 1] += corner_offsets_[v];
-  }
-  corners_.resize(static_cast<std::size_t>(3 * triangles.cols()));
-  std::vector<int> next(corner_offsets_.begin(), corner_offsets_.end() - 1);
-  for (Eigen::Index t = 0; t < triangles.cols(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      corners_[static_cast<std::size_t>(next[static_cast<std::size_t>(triangles(k, t))]++)] =
-          static_cast<int>(3 * t + k);
-    }
-  }
-  compute_pseudonormals();
+  // Each vertex's corners (triangle * 3 + k) and each edge's triangles, in triangle order: a
+  // pseudonormal sums its faces' normals in that order.
+  corner_offsets_ = incidence_offsets(triangles.reshaped(), positions.cols());
+  corners_ = incidences(triangles.reshaped(), corner_offsets_);
+  edge_offsets_ =
+      incidence_offsets(triangle_edges_.reshaped(), static_cast<Eigen::Index>(edge_index.size()));
+  edge_corners_ = incidences(triangle_edges_.reshaped(), edge_offsets_);
 }
 
 void MeshDistance::update(const Eigen::Matrix3Xd& positions) {
@@ -79,27 +89,26 @@ void MeshDistance::update(const Eigen::Matrix3Xd& positions) {
   }
   tree_.refit(positions);  // checks the vertex count
   positions_ = positions;
-  compute_pseudonormals();
 }
 
-// Face and edge pseudonormals for every triangle; a vertex's (a sum of angles, three atan2 a
-// triangle, most of an update's cost) only when a query's nearest feature is that vertex.
-void MeshDistance::compute_pseudonormals() {
-  face_normals_.resize(3, triangles_.cols());
-  edge_normals_.setZero();
-  for (Eigen::Index t = 0; t < triangles_.cols(); ++t) {
-    const Eigen::Vector3d a = positions_.col(triangles_(0, t)),
-                          b = positions_.col(triangles_(1, t)),
-                          c = positions_.col(triangles_(2, t));
-    const Eigen::Vector3d normal = (b - a).cross(c - a);
-    const double length = normal.norm();
-    face_normals_.col(t) =
-        length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
-    const Eigen::Vector3d unit = face_normals_.col(t);
-    for (int k = 0; k < 3; ++k) {
-      edge_normals_.col(triangle_edges_(k, t)) += unit;
-    }
+// Every normal is made when a query's nearest feature needs it, not at update(): a query
+// needs one, an update would make one per triangle, and a contact step updates the tissue
+// several times for a few hundred queries near the instrument.
+Eigen::Vector3d MeshDistance::face_normal(int t) const {
+  const Eigen::Vector3d a = positions_.col(triangles_(0, t)), b = positions_.col(triangles_(1, t)),
+                        c = positions_.col(triangles_(2, t));
+  const Eigen::Vector3d normal = (b - a).cross(c - a);
+  const double length = normal.norm();
+  return length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d MeshDistance::edge_pseudonormal(int edge) const {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int k = edge_offsets_[static_cast<std::size_t>(edge)];
+       k < edge_offsets_[static_cast<std::size_t>(edge) + 1]; ++k) {
+    sum += face_normal(edge_corners_[static_cast<std::size_t>(k)] / 3);
   }
+  return sum;
 }
 
 Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
@@ -112,8 +121,7 @@ Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
     const Eigen::Vector3d corners[3] = {positions_.col(triangles_(0, t)),
                                         positions_.col(triangles_(1, t)),
                                         positions_.col(triangles_(2, t))};
-    sum += corner_angle(corners[at], corners[(at + 1) % 3], corners[(at + 2) % 3])
-           * face_normals_.col(t);
+    sum += corner_angle(corners[at], corners[(at + 1) % 3], corners[(at + 2) % 3]) * face_normal(t);
   }
   return sum;
 }
@@ -183,13 +191,13 @@ MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryS
 Eigen::Vector3d MeshDistance::pseudonormal(int t, TriangleFeature feature) const {
   switch (feature) {
     case TriangleFeature::kFace:
-      return face_normals_.col(t);
+      return face_normal(t);
     case TriangleFeature::kEdge01:
-      return edge_normals_.col(triangle_edges_(0, t));
+      return edge_pseudonormal(triangle_edges_(0, t));
     case TriangleFeature::kEdge12:
-      return edge_normals_.col(triangle_edges_(1, t));
+      return edge_pseudonormal(triangle_edges_(1, t));
     case TriangleFeature::kEdge20:
-      return edge_normals_.col(triangle_edges_(2, t));
+      return edge_pseudonormal(triangle_edges_(2, t));
     case TriangleFeature::kVertex0:
       return vertex_pseudonormal(triangles_(0, t));
     case TriangleFeature::kVertex1:

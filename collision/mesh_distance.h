@@ -52,8 +52,8 @@ class MeshDistance {
                const Eigen::Matrix3Xi& triangles,
                BvhSchedule schedule = BvhSchedule::instrument());
 
-  /// New vertex positions (3 x #V, same count): refits the tree and recomputes the
-  /// pseudonormals, O(#V + #T), no allocation; nothing when they equal the current ones. A rigid
+  /// New vertex positions (3 x #V, same count): refits the tree, O(#V + #T), no allocation;
+  /// nothing when they equal the current ones. The pseudonormals are made per query. A rigid
   /// instrument may instead be queried in its own frame (transform the query point), which needs no
   /// update at all.
   void update(const Eigen::Matrix3Xd& positions);
@@ -74,7 +74,10 @@ class MeshDistance {
   const Eigen::Matrix3Xd& positions() const { return positions_; }
 
  private:
-  void compute_pseudonormals();
+  /// Unit normal of triangle t (zero when it is degenerate).
+  Eigen::Vector3d face_normal(int t) const;
+  /// Pseudonormal (not normalised) of an edge: its faces' unit normals summed.
+  Eigen::Vector3d edge_pseudonormal(int edge) const;
   /// Angle-weighted pseudonormal (not normalised) of a vertex: its corners' angles times their
   /// faces' unit normals.
   Eigen::Vector3d vertex_pseudonormal(int vertex) const;
@@ -85,11 +88,12 @@ class MeshDistance {
   Eigen::Matrix3Xd positions_;
   Eigen::Matrix3Xi triangles_;
   Eigen::Matrix3Xi triangle_edges_;  ///< 3 x #T: edge index of edge k (vertex k to k + 1)
-  Eigen::Matrix3Xd face_normals_;    ///< 3 x #T, unit (zero for a degenerate triangle)
-  Eigen::Matrix3Xd edge_normals_;    ///< 3 x #E
   /// Per vertex (CSR): its corners, triangle * 3 + the corner's index, in triangle order.
   std::vector<int> corner_offsets_;
   std::vector<int> corners_;
+  /// Per edge (CSR): its triangles' sides, triangle * 3 + the side's index, in triangle order.
+  std::vector<int> edge_offsets_;
+  std::vector<int> edge_corners_;
 };
 
 }  // namespace softbench::collision

@@ -44,8 +44,13 @@ class SceneStepper {
   /// with an instrument repeats it from its start while the contact's active set changes
   /// (Loading::refine): no hold pulls, no vertex ends inside the instrument, within
   /// kContactPasses. `model_seconds` (if given) gets the time spent in the body's step()
-  /// over all passes. The step's constraints are then constraints().
-  StepStats step(int step, SoftBody& body, double* model_seconds = nullptr);
+  /// over all passes, read on `clock` (seconds; the steady clock when null): a caller that times
+  /// the whole step on another clock (a thread's CPU time) passes that one, so the difference is
+  /// the step's work outside the model. The step's constraints are then constraints().
+  StepStats step(int step,
+                 SoftBody& body,
+                 double* model_seconds = nullptr,
+                 double (*clock)() = nullptr);
   /// The constraints the last step() ended with.
   std::span<const PositionConstraint> constraints() const { return constraints_; }
 

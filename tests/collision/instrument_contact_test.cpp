@@ -91,9 +91,9 @@ TEST(InstrumentContact, APointBehindAnInvertedPatchOfTheTissuePushesNothing) {
   pose.translation() = Eigen::Vector3d(0.02, 0.02, 0.013);
   contact.resolve(pose, folded, still, kDt, still);  // the step before: the probe already there
   const std::vector<VertexTarget>& targets = contact.resolve(pose, folded, still, kDt, still);
-  EXPECT_TRUE(targets.empty()) << targets.size() << " tissue vertices moved, the first by "
-                               << (targets.front().target - folded.col(targets.front().vertex)).norm()
-                               << " m";
+  EXPECT_TRUE(targets.empty())
+      << targets.size() << " tissue vertices moved, the first by "
+      << (targets.front().target - folded.col(targets.front().vertex)).norm() << " m";
   EXPECT_FALSE(contact.refine(pose, folded, still));
   EXPECT_TRUE(contact.targets().empty());
 
@@ -104,5 +104,45 @@ TEST(InstrumentContact, APointBehindAnInvertedPatchOfTheTissuePushesNothing) {
   intact.resolve(pressing, rest, still, kDt, still);
   EXPECT_FALSE(intact.resolve(pressing, rest, still, kDt, still).empty());
 }
+// The contact's work follows the contact, not the tissue: with the probe out of reach nothing is
+// refitted or searched, but "out of reach" counts the tissue's free flight, so tissue flying at
+// a still probe within the step is caught, not passed through.
+TEST(InstrumentContact, SearchesOnlyWhenTheInstrumentIsWithinReachOfTheTissueOrItsFreeFlight) {
+  const MeshData slab = box_tets(8, 8, 4, 0.04, 0.04, 0.02);  // 4 x 4 x 2 cm, top at z = 2 cm
+  const Eigen::Matrix3Xi surface = boundary_triangles(slab.tetrahedra);
+  const TriMesh probe = icosphere(1, 0.003);
+  const Eigen::Matrix3Xd still = Eigen::Matrix3Xd::Zero(3, slab.vertices.cols());
+  constexpr double kDt = 0.01;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.02, 0.02, 0.05);  // 2.7 cm above the top
+
+  InstrumentContact contact(slab.vertices, surface, probe);
+  EXPECT_TRUE(contact.resolve(pose, slab.vertices, still, kDt, still).empty());
+  EXPECT_FALSE(contact.report().searched);
+  EXPECT_EQ(contact.report().triangle_pairs, 0);
+  EXPECT_FALSE(contact.refine(pose, slab.vertices, still));
+
+  // The slab rising at 4 m/s: 4 cm in the step, through the probe's 6 mm. Where the step starts
+  // it is as far as before.
+  Eigen::Matrix3Xd rising = still;
+  rising.row(2).setConstant(4.0);
+  EXPECT_FALSE(contact.resolve(pose, slab.vertices, rising, kDt, still).empty());
+  EXPECT_TRUE(contact.report().searched);
+
+  // Pressing 1 mm into the top: searched, and the step's trees know the tissue where it is.
+  InstrumentContact pressed(slab.vertices, surface, probe);
+  pose.translation().z() = 0.022;
+  EXPECT_FALSE(pressed.resolve(pose, slab.vertices, still, kDt, still).empty());
+  EXPECT_TRUE(pressed.report().searched);
+  EXPECT_GT(pressed.report().triangle_pairs, 0);
+  // Withdrawn out of reach while holding: searched once more (the holds are let go), then not.
+  pose.translation().z() = 0.05;
+  pressed.resolve(pose, slab.vertices, still, kDt, still);
+  EXPECT_TRUE(pressed.report().searched);
+  EXPECT_TRUE(pressed.resolve(pose, slab.vertices, still, kDt, still).empty());
+  EXPECT_FALSE(pressed.report().searched);
+  EXPECT_EQ(pressed.measure(pose, slab.vertices).max_penetration, 0.0);
+}
+
 }  // namespace
 }  // namespace softbench::collision

@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: MIT
+// The instrument contact's work per step (collision/instrument_contact.h: the trees' refits, the
+// nearest-point queries, the triangle-pair count, the active set's corrections) on the shipped
+// liver scenes, with a model deforming the liver under the probe:
+//
+//   BM_Contact/<scene>/<model>
+//
+// One iteration is the whole scene (300 steps at dt 1/60) driven as `softbench run` drives it
+// (harness SceneStepper: the fixed region, the probe's path, every contact pass), on one thread.
+// A step's contact work is the thread CPU time of the whole step less the model's (all its
+// passes, on the same clock): what the contact adds to the model's step. The reported time
+// (manual) is its mean per step over the scene.
+//
+// Counters, per step, CPU time:
+// - contact_ms_touching: median over the steps that end with the tool loaded (a force on it:
+//   the probe pressing, the grasp pulling), the contact's working level; contact_ms_apart: median
+//   over the others (the probe on its way, the liver settling), where the work should be next
+//   to nothing whatever the mesh; contact_ms_max: the worst step;
+// - model_ms: the model's median step (all passes); steps_per_s_with_contact: steps over the
+//   summed CPU time of model and contact;
+// - steps_touching, max_triangle_pairs (the thesis's measure of contact, table 4.2).
+//
+// Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and quote medians;
+// the machine is shared and noisy.
+#include "bench/bench_smoke.h"
+#include "bench/thread_cpu_clock.h"
+#include "harness/run/scene_mesh.h"
+#include "harness/run/scene_stepper.h"
+#include "models/model_registry.h"
+#include "scenes/scene.h"
+#include "scenes/shipped_data.h"
+
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+namespace softbench {
+namespace {
+
+constexpr const char* kScenes[] = {"liver_press", "liver_pull"};
+constexpr const char* kModels[] = {"corotational_fem", "shape_matching"};
+
+double median(std::vector<double> values) {
+  if (values.empty()) {
+    return 0.0;
+  }
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+double thread_cpu_seconds() {
+  return bench::thread_cpu_us() * 1e-6;
+}
+
+void contact_benchmark(benchmark::State& state,
+                       const std::string& scene_name,
+                       const std::string& model_name) {
+  omp_set_num_threads(1);
+  const scenes::Scene scene =
+      scenes::load_scene(scenes::shipped_data_dir().parent_path() / (scene_name + ".json"));
+  const harness::SceneMesh mesh = harness::read_scene_mesh(scene);
+  const ModelInfo& info = builtin_models().at(model_name);
+  const int steps = bench::unless_smoke(scene.num_steps(), 20);
+
+  std::vector<double> touching, apart, model;
+  double contact_total = 0.0, model_total = 0.0;
+  long stepped = 0;
+  int max_pairs = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    std::unique_ptr<SoftBody> body =
+        info.create(mesh.body, scene.material, scene.parameters_for(model_name),
+                    {scene.source.string(), "/models/" + model_name});
+    harness::SceneStepper stepper(scene, mesh);
+    stepper.start(*body);
+    state.ResumeTiming();
+    double iteration_contact = 0.0;
+    for (int step = 0; step < steps; ++step) {
+      double model_seconds = 0.0;
+      const double before = thread_cpu_seconds();
+      const StepStats stats = stepper.step(step, *body, &model_seconds, thread_cpu_seconds);
+      const double contact_seconds = thread_cpu_seconds() - before - model_seconds;
+      stepper.observe(step, *body);
+      if (!stats.finite) {
+        state.SkipWithError((model_name + " diverged on " + scene_name).c_str());
+        return;
+      }
+      (stepper.loading().tool_force() > 0.0 ? touching : apart).push_back(1e3 * contact_seconds);
+      model.push_back(1e3 * model_seconds);
+      iteration_contact += contact_seconds;
+      model_total += model_seconds;
+      ++stepped;
+    }
+    contact_total += iteration_contact;
+    max_pairs = std::max(max_pairs, stepper.loading().max_triangle_pairs());
+    state.SetIterationTime(iteration_contact / steps);
+  }
+  state.counters["contact_ms_touching"] = median(touching);
+  state.counters["contact_ms_apart"] = median(apart);
+  std::vector<double> all = touching;
+  all.insert(all.end(), apart.begin(), apart.end());
+  state.counters["contact_ms_max"] = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
+  state.counters["model_ms"] = median(model);
+  state.counters["steps_per_s_with_contact"] =
+      static_cast<double>(stepped) / std::max(contact_total + model_total, 1e-300);
+  state.counters["steps_touching"] =
+      static_cast<double>(touching.size()) / static_cast<double>(state.iterations());
+  state.counters["max_triangle_pairs"] = max_pairs;
+}
+
+void register_benchmarks() {
+  for (const char* scene : kScenes) {
+    for (const char* model : kModels) {
+      benchmark::RegisterBenchmark(
+          (std::string("BM_Contact/") + scene + "/" + model).c_str(),
+          [scene = std::string(scene), model = std::string(model)](benchmark::State& state) {
+            contact_benchmark(state, scene, model);
+          })
+          ->Unit(benchmark::kMillisecond)
+          ->UseManualTime()
+          ->Iterations(1);
+    }
+  }
+}
+
+const bool kRegistered = (register_benchmarks(), true);
+
+}  // namespace
+}  // namespace softbench
