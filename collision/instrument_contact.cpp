@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace softbench::collision {
@@ -294,16 +295,20 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
       continue;
     }
     // Outside past the band where the step starts and in its free flight, or inside past any
-    // fold's reach (cull_radius): known without a query.
-    if (clearance_.outside_by(i, 2.0 * margin + tissue_motion_)
-        || clearance_.inside_by(i, radius)) {
+    // fold's reach (cull_radius), or farther than that on either side: known without a query.
+    if (clearance_.outside_by(i, 2.0 * margin + tissue_motion_) || clearance_.inside_by(i, radius)
+        || clearance_.far_by(i, radius)) {
       continue;
     }
-    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    // A point farther from the surface than the radius, on either side, pushes nothing: the
+    // query opens only the tree's nodes within it.
+    const std::optional<MeshDistance::Nearest> found = tissue_distance_.nearest_within(p, radius);
+    if (!found) {
+      clearance_.record_far(i, radius);
+      continue;
+    }
+    const MeshDistance::Nearest& nearest = *found;
     clearance_.record(i, nearest.signed_distance);
-    if (nearest.distance > radius) {
-      continue;
-    }
     const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
     const bool pressed =
         was_pressed(corners(0)) || was_pressed(corners(1)) || was_pressed(corners(2));
@@ -483,13 +488,21 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
   bool changed = false;
   for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
     const Eigen::Vector3d p = samples_world_.col(i);
-    if (!reach.contains(p) || clearance_.outside_by(i, 0.0) || clearance_.inside_by(i, radius)) {
+    if (!reach.contains(p) || clearance_.outside_by(i, 0.0) || clearance_.inside_by(i, radius)
+        || clearance_.far_by(i, radius)) {
       continue;
     }
     // Only a point inside the tissue itself: one in the margin band is resolve()'s to judge at
     // the next step (a curved instrument's points come into the band between the vertices
-    // held on it, and holding their triangles fully would make the contact stick).
-    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p);
+    // held on it, and holding their triangles fully would make the contact stick). One deeper
+    // than the radius is behind a fold, one outside by as much is out: neither needs its nearest
+    // point.
+    const std::optional<MeshDistance::Nearest> found = tissue_distance_.nearest_within(p, radius);
+    if (!found) {
+      clearance_.record_far(i, radius);
+      continue;
+    }
+    const MeshDistance::Nearest& nearest = *found;
     clearance_.record(i, nearest.signed_distance);
     if (nearest.signed_distance >= 0.0) {
       continue;

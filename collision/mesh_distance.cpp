@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <utility>
 
 namespace softbench::collision {
@@ -127,12 +128,24 @@ Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
 }
 
 MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryStats* stats) const {
+  return search(point, std::numeric_limits<double>::infinity(), stats);
+}
+
+std::optional<MeshDistance::Nearest> MeshDistance::nearest_within(const Eigen::Vector3d& point,
+                                                                  double radius,
+                                                                  QueryStats* stats) const {
+  Nearest found = search(point, radius * radius, stats);
+  return found.triangle >= 0 ? std::optional<Nearest>(found) : std::nullopt;
+}
+
+MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
+                                           double best_squared,
+                                           QueryStats* stats) const {
   Nearest best;
   QueryStats counts;
   if (tree_.empty()) {
     return best;
   }
-  double best_squared = std::numeric_limits<double>::infinity();
   // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
   std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;
   int top = 0;
@@ -175,16 +188,19 @@ MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryS
       stack[static_cast<std::size_t>(top++)] = {right, right_bound};
     }
   }
+  if (stats != nullptr) {
+    counts.pairs_found = best.triangle >= 0 ? 1 : 0;
+    *stats = counts;
+  }
+  if (best.triangle < 0) {
+    return best;  // nothing nearer than the bound it started with
+  }
   best.distance = std::sqrt(best_squared);
   const Eigen::Vector3d normal = pseudonormal(best.triangle, best.feature);
   const double length = normal.norm();
   best.normal = length > 0.0 ? Eigen::Vector3d(normal / length) : Eigen::Vector3d::Zero();
   // Points on the surface (distance 0) and features without a normal count as outside.
   best.signed_distance = (point - best.point).dot(normal) < 0.0 ? -best.distance : best.distance;
-  counts.pairs_found = 1;
-  if (stats != nullptr) {
-    *stats = counts;
-  }
   return best;
 }
 

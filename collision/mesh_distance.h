@@ -26,6 +26,7 @@
 #include <Eigen/Core>
 
 #include <limits>
+#include <optional>
 #include <vector>
 
 namespace softbench::collision {
@@ -62,6 +63,13 @@ class MeshDistance {
   /// test (see above). Ties go to the triangle found first. No allocation.
   Nearest nearest(const Eigen::Vector3d& point, QueryStats* stats = nullptr) const;
 
+  /// nearest() among the surface points nearer than `radius` (m) only: none when the surface is
+  /// farther. Only the nodes nearer than `radius` are opened, so a point far from the surface
+  /// costs a few node tests, not a search for its nearest point.
+  std::optional<Nearest> nearest_within(const Eigen::Vector3d& point,
+                                        double radius,
+                                        QueryStats* stats = nullptr) const;
+
   /// Shorthands for nearest(point).signed_distance and its sign.
   double signed_distance(const Eigen::Vector3d& point) const {
     return nearest(point).signed_distance;
@@ -74,6 +82,9 @@ class MeshDistance {
   const Eigen::Matrix3Xd& positions() const { return positions_; }
 
  private:
+  /// The descent behind nearest(): the closest point among those nearer than sqrt(best_squared)
+  /// (triangle -1 when there is none), with its side.
+  Nearest search(const Eigen::Vector3d& point, double best_squared, QueryStats* stats) const;
   /// Unit normal of triangle t (zero when it is degenerate).
   Eigen::Vector3d face_normal(int t) const;
   /// Pseudonormal (not normalised) of an edge: its faces' unit normals summed.

@@ -35,6 +35,7 @@ void SampleClearance::advance(const Eigen::Matrix3Xd& surface, const Eigen::Isom
   if (!have_state_ || surface.cols() != surface_.cols()) {
     // No state to measure the moves from: nothing recorded so far can be trusted.
     std::fill(side_.begin(), side_.end(), static_cast<signed char>(0));
+    std::fill(clearance_.begin(), clearance_.end(), 0.0);
     surface_ = surface;
     pose_ = pose;
     have_state_ = true;
@@ -52,6 +53,13 @@ void SampleClearance::record(Eigen::Index i, double signed_distance) {
   clearance_[k] = std::abs(signed_distance);
   travel_at_[k] = travel_;
   side_[k] = signed_distance > 0.0 ? 1 : (signed_distance < 0.0 ? -1 : 0);
+}
+
+void SampleClearance::record_far(Eigen::Index i, double distance) {
+  const auto k = static_cast<std::size_t>(i);
+  clearance_[k] = distance;
+  travel_at_[k] = travel_;
+  side_[k] = 0;
 }
 
 }  // namespace softbench::collision

@@ -49,8 +49,15 @@ class SampleClearance {
   bool inside_by(Eigen::Index i, double depth) const {
     return side_[static_cast<std::size_t>(i)] < 0 && bound(i) > depth;
   }
+  /// Whether sample i is known to be farther than `distance` from the surface, on either side.
+  bool far_by(Eigen::Index i, double distance) const {
+    return bound(i) > distance;
+  }
   /// A query's signed distance for sample i in the current state (negative inside).
   void record(Eigen::Index i, double signed_distance);
+  /// What a query bounded by `distance` (MeshDistance::nearest_within) found for sample i: no
+  /// surface point nearer, side unknown (only far_by() can use it).
+  void record_far(Eigen::Index i, double distance);
 
  private:
   double bound(Eigen::Index i) const {

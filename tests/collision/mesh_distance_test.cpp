@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -219,6 +220,43 @@ TEST(MeshDistance, NearestEqualsBruteForceAndInsideIsRightNearVerticesAndEdges) 
       const MeshDistance distance(named.mesh.vertices, named.mesh.triangles, schedule);
       expect_matches_references(distance, named.mesh, named.mesh.vertices, rng, named.name);
     }
+  }
+}
+
+// Bounded by a radius, the query gives the nearest point when it is nearer than the radius and
+// nothing otherwise, and a point far from the surface costs a few node tests.
+TEST(MeshDistance, NearestWithinARadiusIsTheNearestPointOrNothing) {
+  std::mt19937 rng(25);
+  for (const NamedMesh& named : closed_meshes()) {
+    SCOPED_TRACE(named.name);
+    const MeshDistance distance(named.mesh.vertices, named.mesh.triangles);
+    int found = 0, missed = 0;
+    for (const Eigen::Vector3d& p : query_points(named.mesh, named.mesh.vertices, rng)) {
+      const MeshDistance::Nearest nearest = distance.nearest(p);
+      for (const double radius : {1e-4, 1e-2, 0.1}) {
+        const std::optional<MeshDistance::Nearest> within = distance.nearest_within(p, radius);
+        if (nearest.distance < radius) {
+          ASSERT_TRUE(within.has_value()) << p.transpose() << " radius " << radius;
+          EXPECT_EQ(within->distance, nearest.distance);
+          EXPECT_EQ(within->signed_distance, nearest.signed_distance);
+          EXPECT_EQ(within->triangle, nearest.triangle);
+          ++found;
+        } else {
+          EXPECT_FALSE(within.has_value()) << p.transpose() << " radius " << radius;
+          ++missed;
+        }
+      }
+    }
+    EXPECT_GT(found, 100);
+    EXPECT_GT(missed, 100);
+    // 3 units from the centre of a surface of radius ~1: nothing within 0.1, found in a few
+    // node tests (the root's box is 2 units away), where the unbounded query searches.
+    QueryStats bounded, unbounded;
+    const Eigen::Vector3d far(3.0, 0.1, 0.2);
+    EXPECT_FALSE(distance.nearest_within(far, 0.1, &bounded).has_value());
+    distance.nearest(far, &unbounded);
+    EXPECT_EQ(bounded.tri_tests, 0);
+    EXPECT_GT(unbounded.tri_tests, 0);
   }
 }
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 // SampleClearance's bounds hold against exact queries while a closed surface deforms and moves
 // and a rigid instrument moves through it, over many small states.
-#include "collision/mesh_distance.h"
 #include "collision/sample_clearance.h"
 
+#include "collision/mesh_distance.h"
 #include "tests/collision/bvh_test_meshes.h"
 
 #include <Eigen/Geometry>
@@ -25,7 +25,7 @@ TEST(SampleClearance, ItsBoundsHoldWhileTheSurfaceAndTheInstrumentMove) {
   MeshDistance distance(tissue.vertices, tissue.triangles);
   SampleClearance clearance(tool.vertices.cols(), tool.vertices);
 
-  int known = 0, queried = 0, inside_checks = 0;
+  int known = 0, queried = 0, inside_checks = 0, far_checks = 0;
   constexpr int kStates = 400;
   for (int state = 0; state < kStates; ++state) {
     const double t = static_cast<double>(state) / kStates;
@@ -38,8 +38,8 @@ TEST(SampleClearance, ItsBoundsHoldWhileTheSurfaceAndTheInstrumentMove) {
     pose.rotate(Eigen::AngleAxisd(3.0 * t, Eigen::Vector3d::UnitY()));
     clearance.advance(surface, pose);
     for (Eigen::Index i = 0; i < tool.vertices.cols(); ++i) {
-      const double exact = distance.nearest(pose * Eigen::Vector3d(tool.vertices.col(i)))
-                               .signed_distance;
+      const double exact =
+          distance.nearest(pose * Eigen::Vector3d(tool.vertices.col(i))).signed_distance;
       // Probe the bounds at several distances before refreshing some of them, as the contact
       // does (it queries only what the bounds leave open).
       for (const double d : {0.0, 0.01, 0.1, 0.5}) {
@@ -51,9 +51,20 @@ TEST(SampleClearance, ItsBoundsHoldWhileTheSurfaceAndTheInstrumentMove) {
           ++inside_checks;
           EXPECT_LT(exact, -d) << "state " << state << " sample " << i;
         }
+        if (clearance.far_by(i, d)) {
+          ++far_checks;
+          EXPECT_GT(std::abs(exact), d) << "state " << state << " sample " << i;
+        }
       }
-      if (!clearance.outside_by(i, 0.1) && !clearance.inside_by(i, 0.1)) {
-        clearance.record(i, exact);
+      if (!clearance.outside_by(i, 0.1) && !clearance.inside_by(i, 0.1)
+          && !clearance.far_by(i, 0.1)) {
+        // Half the samples as a query bounded at 0.3 records them (nearest_within): farther
+        // than that, its side unknown.
+        if (i % 2 == 0 && std::abs(exact) >= 0.3) {
+          clearance.record_far(i, 0.3);
+        } else {
+          clearance.record(i, exact);
+        }
         ++queried;
       }
     }
@@ -61,6 +72,7 @@ TEST(SampleClearance, ItsBoundsHoldWhileTheSurfaceAndTheInstrumentMove) {
   // The bounds spared most queries, and the inside ones were exercised too.
   EXPECT_GT(known, queried);
   EXPECT_GT(inside_checks, 100);
+  EXPECT_GT(far_checks, 100);
 }
 
 TEST(SampleClearance, KnowsNothingBeforeAQueryOrAfterTheSurfaceChangesSize) {
@@ -68,6 +80,12 @@ TEST(SampleClearance, KnowsNothingBeforeAQueryOrAfterTheSurfaceChangesSize) {
   SampleClearance clearance(tool.vertices.cols(), tool.vertices);
   const Eigen::Matrix3Xd surface = Eigen::Matrix3Xd::Zero(3, 4);
   clearance.advance(surface, Eigen::Isometry3d::Identity());
+  EXPECT_FALSE(clearance.outside_by(0, 0.0));
+  EXPECT_FALSE(clearance.inside_by(0, 0.0));
+  EXPECT_FALSE(clearance.far_by(0, 0.0));
+  // Far by 0.4 on a side not known: neither side is claimed.
+  clearance.record_far(0, 0.4);
+  EXPECT_TRUE(clearance.far_by(0, 0.39));
   EXPECT_FALSE(clearance.outside_by(0, 0.0));
   EXPECT_FALSE(clearance.inside_by(0, 0.0));
   clearance.record(0, 0.5);
