@@ -315,7 +315,11 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
     // Short of the margin by its slack: a point of a curved instrument between tissue vertices
     // held at the margin (the chord's sagitta) is not a point the tissue passes.
     const double band = (pressed ? 2.0 * margin : margin) - kPointSlack * margin;
-    if (nearest.signed_distance >= band && predicted_distance_.signed_distance(p) >= band) {
+    // Free flight moves no surface point farther than tissue_motion_, nor the distance to the
+    // surface: a point that far beyond the band needs no query of the predicted surface.
+    if (nearest.signed_distance >= band
+        && (nearest.signed_distance >= band + tissue_motion_
+            || predicted_distance_.signed_distance(p) >= band)) {
       continue;
     }
     if (nearest.signed_distance < 0.0 && behind_fold(i, pose, nearest)) {
