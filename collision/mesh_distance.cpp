@@ -162,8 +162,15 @@ MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
       ++counts.leaf_visits;
       for (int slot = node.first; slot < node.first + node.count; ++slot) {
         const auto tri = tree_.slot_vertices().col(slot);
-        const TrianglePoint candidate = closest_point_on_triangle(
-            point, positions_.col(tri(0)), positions_.col(tri(1)), positions_.col(tri(2)));
+        const auto a = positions_.col(tri(0)), b = positions_.col(tri(1)),
+                   c = positions_.col(tri(2));
+        // The triangle's box first: a leaf's triangles are mostly farther than the best found
+        // (its box is near, they are not), and the box says so at a fraction of the cost.
+        if (squared_distance(Aabb{a.cwiseMin(b).cwiseMin(c), a.cwiseMax(b).cwiseMax(c)}, point)
+            >= best_squared) {
+          continue;
+        }
+        const TrianglePoint candidate = closest_point_on_triangle(point, a, b, c);
         ++counts.tri_tests;
         const double squared = (candidate.point - point).squaredNorm();
         if (squared < best_squared) {

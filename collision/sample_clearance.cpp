@@ -17,6 +17,9 @@ double largest_move(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to) {
 double largest_move(const Eigen::Matrix3Xd& vertices,
                     const Eigen::Isometry3d& from,
                     const Eigen::Isometry3d& to) {
+  if (from.matrix() == to.matrix()) {
+    return 0.0;  // the contact's passes within a step: the instrument has not moved
+  }
   double largest = 0.0;
   for (Eigen::Index v = 0; v < vertices.cols(); ++v) {
     const Eigen::Vector3d local = vertices.col(v);
