@@ -79,6 +79,7 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
   VertexCorners incidences = vertex_corners(tets_, num_vertices_);
   vertex_offsets_ = std::move(incidences.offsets);
   vertex_incidences_ = std::move(incidences.corners);
+  vertex_incidences_.resize(vertex_incidences_.size() + kIncidencePadding, 0);
 
   // Edge incidences, in element order; the edge's first (smaller) vertex's local index first.
   const Eigen::Matrix2Xi edges = unique_edges(tets_);
@@ -100,7 +101,7 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
     }
   }
   edge_offsets_ = offsets_from_counts(counts);
-  edge_incidences_.resize(static_cast<std::size_t>(edge_offsets_.back()));
+  edge_incidences_.resize(static_cast<std::size_t>(edge_offsets_.back()) + kIncidencePadding, 0);
   std::vector<int> fill(edge_offsets_.begin(), edge_offsets_.end() - 1);
   for (std::size_t k = 0; k < element_edges.size(); ++k) {
     edge_incidences_[static_cast<std::size_t>(fill[static_cast<std::size_t>(element_edges[k])]++)] =
