@@ -30,6 +30,11 @@
 // repeats the step from its start (SceneStepper::step).
 // The tissue and instrument BVHs are refitted and queried for intersecting triangle pairs every
 // step as well: that count is the thesis's measure of contact (table 4.2).
+// The work follows the contact, not the tissue: while nothing is held and the instrument is out
+// of the contact's reach of the tissue (where the step starts and in its free flight), a step
+// costs a pass over the vertices and nothing is refitted or searched; near it, an instrument
+// point is searched for only within that reach (farther points push nothing), and what earlier
+// searches found spares most points a search (SampleClearance).
 #pragma once
 
 #include "collision/bvh.h"
