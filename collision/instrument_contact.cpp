@@ -289,15 +289,16 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
       inflated(merge(tissue_distance_.bounds(), predicted_distance_.bounds()), 2.0 * margin);
   const double radius = cull_radius();
   clearance_.advance(start_, pose);
-  for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
-    const Eigen::Vector3d p = samples_world_.col(i);
-    if (!reach.contains(p)) {
-      continue;
-    }
+  for (Eigen::Index i = 0; i < samples_local_.cols(); ++i) {
     // Outside past the band where the step starts and in its free flight, or inside past any
-    // fold's reach (cull_radius), or farther than that on either side: known without a query.
+    // fold's reach (cull_radius), or farther than that on either side: known without a query,
+    // or even the point's place (most points, most steps).
     if (clearance_.outside_by(i, 2.0 * margin + tissue_motion_) || clearance_.inside_by(i, radius)
         || clearance_.far_by(i, radius)) {
+      continue;
+    }
+    const Eigen::Vector3d p = pose * Eigen::Vector3d(samples_local_.col(i));
+    if (!reach.contains(p)) {
       continue;
     }
     // A point farther from the surface than the radius, on either side, pushes nothing: the
@@ -340,13 +341,6 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
   }
 }
 
-void InstrumentContact::place_samples(const Eigen::Isometry3d& pose) {
-  if (!samples_placed_) {
-    samples_world_ = pose * samples_local_;
-    samples_placed_ = true;
-  }
-}
-
 const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometry3d& pose,
                                                             const Eigen::Matrix3Xd& positions,
                                                             const Eigen::Matrix3Xd& velocities,
@@ -368,7 +362,6 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
   start_pose_ = last_pose_;
   instrument_world_ = pose * instrument_local_;
   instrument_box_ = fit_aabb(instrument_world_);
-  samples_placed_ = false;
   tissue_motion_ = largest_move(positions, predicted_);
   tool_motion_ = largest_move(instrument_local_, start_pose_, pose);
   for (const int vertex : dropped_vertices_) {
@@ -386,7 +379,6 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
                                          2.0 * options_.margin + kBoxSlack),
                                 instrument_box_);
   if (report_.searched) {
-    place_samples(pose);
     instrument_tree_.refit(instrument_world_);
     tissue_distance_.update(positions);
     predicted_distance_.update(predicted_);
@@ -483,17 +475,19 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
   if (!overlap(inflated(fit_aabb(positions), margin + kBoxSlack), instrument_box_)) {
     return false;
   }
-  place_samples(pose);
   tissue_distance_.update(positions);
   const Aabb reach = inflated(tissue_distance_.bounds(), margin);
   // A point deeper than this is behind a fold (cull_radius).
   const double radius = cull_radius();
   clearance_.advance(positions, pose);
   bool changed = false;
-  for (Eigen::Index i = 0; i < samples_world_.cols(); ++i) {
-    const Eigen::Vector3d p = samples_world_.col(i);
-    if (!reach.contains(p) || clearance_.outside_by(i, 0.0) || clearance_.inside_by(i, radius)
+  for (Eigen::Index i = 0; i < samples_local_.cols(); ++i) {
+    if (clearance_.outside_by(i, 0.0) || clearance_.inside_by(i, radius)
         || clearance_.far_by(i, radius)) {
+      continue;
+    }
+    const Eigen::Vector3d p = pose * Eigen::Vector3d(samples_local_.col(i));
+    if (!reach.contains(p)) {
       continue;
     }
     // Only a point inside the tissue itself: one in the margin band is resolve()'s to judge at
@@ -561,7 +555,6 @@ ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
   if (!overlap(inflated(fit_aabb(positions), kBoxSlack), instrument_box)) {
     return report;  // apart: nothing penetrates (no tree refitted to say so)
   }
-  const Eigen::Matrix3Xd world = pose * samples_local_;
   const Eigen::Isometry3d to_local = pose.inverse();
   for (int vertex : surface_vertices_) {
     if (!instrument_box.contains(positions.col(vertex))) {
@@ -576,12 +569,16 @@ ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
   tissue_distance_.update(positions);
   clearance_.advance(positions, pose);
   const Aabb tissue_box = tissue_distance_.bounds();
-  for (Eigen::Index i = 0; i < world.cols(); ++i) {
+  for (Eigen::Index i = 0; i < samples_local_.cols(); ++i) {
     // A point known to be outside has no depth: skipped without a query.
-    if (!tissue_box.contains(world.col(i)) || clearance_.outside_by(i, 0.0)) {
+    if (clearance_.outside_by(i, 0.0)) {
       continue;
     }
-    const double signed_distance = tissue_distance_.nearest(world.col(i)).signed_distance;
+    const Eigen::Vector3d p = pose * Eigen::Vector3d(samples_local_.col(i));
+    if (!tissue_box.contains(p)) {
+      continue;
+    }
+    const double signed_distance = tissue_distance_.nearest(p).signed_distance;
     clearance_.record(i, signed_distance);
     const double depth = -signed_distance;
     if (depth > 0.0) {

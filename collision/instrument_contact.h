@@ -163,12 +163,7 @@ class InstrumentContact {
   double spacing_;                  ///< m: half the tissue surface's mean edge at rest
   Eigen::Matrix3Xd samples_local_;  ///< points on the instrument's surface (vertices and more)
   Eigen::Matrix3Xd sample_normals_local_;  ///< the instrument's outward pseudonormal at each sample
-  Eigen::Matrix3Xd samples_world_;         ///< at this step's pose once place_samples() made them
-  bool samples_placed_ = false;
-  /// samples_world_ at `pose` (the step's), unless made already this step: a step whose
-  /// instrument is far from the tissue needs none.
-  void place_samples(const Eigen::Isometry3d& pose);
-  Aabb instrument_box_;         ///< the instrument's world box at this step's pose
+  Aabb instrument_box_;                    ///< the instrument's world box at this step's pose
   SampleClearance clearance_;   ///< what is known of each sample's distance without a query
   double tissue_motion_ = 0.0;  ///< m: this step's largest free-flight move of a tissue vertex
   double tool_motion_ = 0.0;    ///< m: this step's largest move of an instrument vertex
