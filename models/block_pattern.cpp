@@ -68,15 +68,10 @@ BlockPattern::BlockPattern(int num_vertices, const Eigen::Matrix2Xi& edges)
     const int* end = matrix_.innerIndexPtr() + matrix_.outerIndexPtr()[column + 1];
     return static_cast<int>(std::lower_bound(begin, end, row) - matrix_.innerIndexPtr());
   };
-  const auto block_entries = [&entry_index](int row_vertex, int column_vertex) {
-    BlockEntries where{};
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        where[static_cast<std::size_t>(3 * a + b)] =
-            entry_index(3 * row_vertex + a, 3 * column_vertex + b);
-      }
-    }
-    return where;
+  const auto block_entries = [this, &entry_index](int row_vertex, int column_vertex) {
+    return BlockEntries{entry_index(3 * row_vertex, 3 * column_vertex),
+                        matrix_.outerIndexPtr()[3 * column_vertex + 1]
+                            - matrix_.outerIndexPtr()[3 * column_vertex]};
   };
   vertex_blocks_.reserve(static_cast<std::size_t>(num_vertices));
   for (int v = 0; v < num_vertices; ++v) {
@@ -92,14 +87,7 @@ BlockPattern::BlockPattern(int num_vertices, const Eigen::Matrix2Xi& edges)
 BlockEntries BlockPattern::column_block(int vertex, int slot) const {
   const int degree = neighbour_offsets_[static_cast<std::size_t>(vertex) + 1]
                      - neighbour_offsets_[static_cast<std::size_t>(vertex)];
-  const int base = matrix_.outerIndexPtr()[3 * vertex];
-  BlockEntries where{};
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) {
-      where[static_cast<std::size_t>(3 * a + b)] = base + 3 * degree * b + 3 * slot + a;
-    }
-  }
-  return where;
+  return BlockEntries{matrix_.outerIndexPtr()[3 * vertex] + 3 * slot, 3 * degree};
 }
 
 BlockEntries BlockPattern::row_block(int vertex, int slot) const {

@@ -11,9 +11,17 @@
 
 namespace softbench {
 
-/// Where each entry of a 3x3 block sits in a sparse matrix's value array; entry (a, b) (row a,
-/// column b of the block) is at position 3 a + b.
-using BlockEntries = std::array<int, 9>;
+/// Where a 3x3 block sits in a BlockPattern matrix's value array: entry (a, b) (row a, column b
+/// of the block) at offset + a + stride b, the block being three strips of three values, one in
+/// each of its columns (the layout below). where[3 a + b] is that position. Two ints, not nine
+/// positions: assembling the liver wrote about as many bytes of positions as of values.
+struct BlockEntries {
+  int offset = 0;  ///< the position of entry (0, 0)
+  int stride = 0;  ///< from one column's strip to the next: the values in a column
+  int operator[](std::size_t k) const {
+    return offset + static_cast<int>(k / 3) + stride * static_cast<int>(k % 3);
+  }
+};
 
 /// The fixed sparsity pattern of a symmetric 3N x 3N system with one 3x3 block per vertex (the
 /// diagonal) and two per edge (i, j): (i, j) and (j, i). Both triangles are stored so the same
@@ -64,10 +72,10 @@ class BlockPattern {
   /// Writes `block` (a 3x3 matrix) into the entries `where`.
   template <class Block>
   void set(const BlockEntries& where, const Block& block) {
-    double* values = matrix_.valuePtr();
-    for (int a = 0; a < 3; ++a) {
-      for (int b = 0; b < 3; ++b) {
-        values[where[3 * a + b]] = block(a, b);
+    double* values = matrix_.valuePtr() + where.offset;
+    for (int b = 0; b < 3; ++b) {
+      for (int a = 0; a < 3; ++a) {
+        values[a + where.stride * b] = block(a, b);
       }
     }
   }
