@@ -8,6 +8,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <span>
 #include <utility>
 
 namespace softbench::collision {
@@ -32,30 +33,6 @@ double corner_angle(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Ei
   return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
-// CSR offsets of the items listed in `owners` (each entry the owner of the item at its
-// position: a corner's vertex, a triangle side's edge) over `count` owners.
-std::vector<int> incidence_offsets(const auto& owners, Eigen::Index count) {
-  std::vector<int> offsets(static_cast<std::size_t>(count) + 1, 0);
-  for (const int owner : owners) {
-    ++offsets[static_cast<std::size_t>(owner) + 1];
-  }
-  for (std::size_t k = 0; k + 1 < offsets.size(); ++k) {
-    offsets[k + 1] += offsets[k];
-  }
-  return offsets;
-}
-
-// Each owner's items (their positions in `owners`: triangle * 3 + k), in increasing order.
-std::vector<int> incidences(const auto& owners, const std::vector<int>& offsets) {
-  std::vector<int> items(static_cast<std::size_t>(offsets.back()));
-  std::vector<int> next(offsets.begin(), offsets.end() - 1);
-  int item = 0;
-  for (const int owner : owners) {
-    items[static_cast<std::size_t>(next[static_cast<std::size_t>(owner)]++)] = item++;
-  }
-  return items;
-}
-
 }  // namespace
 
 MeshDistance::MeshDistance(const Eigen::Matrix3Xd& positions,
@@ -75,11 +52,14 @@ MeshDistance::MeshDistance(const Eigen::Matrix3Xd& positions,
   }
   // Each vertex's corners (triangle * 3 + k) and each edge's triangles, in triangle order: a
   // pseudonormal sums its faces' normals in that order.
-  corner_offsets_ = incidence_offsets(triangles.reshaped(), positions.cols());
-  corners_ = incidences(triangles.reshaped(), corner_offsets_);
-  edge_offsets_ =
-      incidence_offsets(triangle_edges_.reshaped(), static_cast<Eigen::Index>(edge_index.size()));
-  edge_corners_ = incidences(triangle_edges_.reshaped(), edge_offsets_);
+  // Column-major: entry 3 t + k is corner k of triangle t, and its side from corner k.
+  vertex_corners_ = group_by_owner(
+      std::span<const int>(triangles.data(), static_cast<std::size_t>(triangles.size())),
+      static_cast<int>(positions.cols()));
+  edge_sides_ =
+      group_by_owner(std::span<const int>(triangle_edges_.data(),
+                                          static_cast<std::size_t>(triangle_edges_.size())),
+                     static_cast<int>(edge_index.size()));
 }
 
 void MeshDistance::update(const Eigen::Matrix3Xd& positions) {
@@ -105,18 +85,18 @@ Eigen::Vector3d MeshDistance::face_normal(int t) const {
 
 Eigen::Vector3d MeshDistance::edge_pseudonormal(int edge) const {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int k = edge_offsets_[static_cast<std::size_t>(edge)];
-       k < edge_offsets_[static_cast<std::size_t>(edge) + 1]; ++k) {
-    sum += face_normal(edge_corners_[static_cast<std::size_t>(k)] / 3);
+  for (int k = edge_sides_.offsets[static_cast<std::size_t>(edge)];
+       k < edge_sides_.offsets[static_cast<std::size_t>(edge) + 1]; ++k) {
+    sum += face_normal(edge_sides_.items[static_cast<std::size_t>(k)] / 3);
   }
   return sum;
 }
 
 Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  for (int k = corner_offsets_[static_cast<std::size_t>(vertex)];
-       k < corner_offsets_[static_cast<std::size_t>(vertex) + 1]; ++k) {
-    const int corner = corners_[static_cast<std::size_t>(k)];
+  for (int k = vertex_corners_.offsets[static_cast<std::size_t>(vertex)];
+       k < vertex_corners_.offsets[static_cast<std::size_t>(vertex) + 1]; ++k) {
+    const int corner = vertex_corners_.items[static_cast<std::size_t>(k)];
     const int t = corner / 3;
     const int at = corner % 3;
     const Eigen::Vector3d corners[3] = {positions_.col(triangles_(0, t)),

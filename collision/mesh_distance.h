@@ -22,6 +22,7 @@
 #include "collision/bvh_schedule.h"
 #include "collision/closest_point_triangle.h"
 #include "collision/query_stats.h"
+#include "geometry/mesh_topology.h"
 
 #include <Eigen/Core>
 
@@ -99,12 +100,10 @@ class MeshDistance {
   Eigen::Matrix3Xd positions_;
   Eigen::Matrix3Xi triangles_;
   Eigen::Matrix3Xi triangle_edges_;  ///< 3 x #T: edge index of edge k (vertex k to k + 1)
-  /// Per vertex (CSR): its corners, triangle * 3 + the corner's index, in triangle order.
-  std::vector<int> corner_offsets_;
-  std::vector<int> corners_;
-  /// Per edge (CSR): its triangles' sides, triangle * 3 + the side's index, in triangle order.
-  std::vector<int> edge_offsets_;
-  std::vector<int> edge_corners_;
+  /// Per vertex: its corners, triangle * 3 + the corner's index, in triangle order.
+  Incidences vertex_corners_;
+  /// Per edge: its triangles' sides, triangle * 3 + the side's index, in triangle order.
+  Incidences edge_sides_;
 };
 
 }  // namespace softbench::collision

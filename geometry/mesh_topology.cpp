@@ -185,26 +185,28 @@ TriMesh boundary_surface(const TetMesh& mesh, std::vector<int>* tet_vertex_of) {
   return surface;
 }
 
-VertexCorners vertex_corners(const Eigen::Matrix4Xi& tets, int num_vertices) {
-  VertexCorners result;
-  result.offsets.assign(static_cast<std::size_t>(num_vertices) + 1, 0);
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    for (int a = 0; a < 4; ++a) {
-      ++result.offsets[static_cast<std::size_t>(tets(a, t)) + 1];
-    }
+Incidences group_by_owner(std::span<const int> owners, int num_owners) {
+  Incidences result;
+  result.offsets.assign(static_cast<std::size_t>(num_owners) + 1, 0);
+  for (const int owner : owners) {
+    ++result.offsets[static_cast<std::size_t>(owner) + 1];
   }
-  for (std::size_t v = 1; v < result.offsets.size(); ++v) {
-    result.offsets[v] += result.offsets[v - 1];
+  for (std::size_t o = 1; o < result.offsets.size(); ++o) {
+    result.offsets[o] += result.offsets[o - 1];
   }
-  result.corners.resize(static_cast<std::size_t>(result.offsets.back()));
+  result.items.resize(owners.size());
   std::vector<int> fill(result.offsets.begin(), result.offsets.end() - 1);
-  for (Eigen::Index t = 0; t < tets.cols(); ++t) {
-    for (int a = 0; a < 4; ++a) {
-      result.corners[static_cast<std::size_t>(fill[static_cast<std::size_t>(tets(a, t))]++)] =
-          static_cast<int>(4 * t + a);
-    }
+  for (std::size_t k = 0; k < owners.size(); ++k) {
+    result.items[static_cast<std::size_t>(fill[static_cast<std::size_t>(owners[k])]++)] =
+        static_cast<int>(k);
   }
   return result;
+}
+
+Incidences vertex_corners(const Eigen::Matrix4Xi& tets, int num_vertices) {
+  // Column-major: entry 4 t + a is corner a of tet t.
+  return group_by_owner(std::span<const int>(tets.data(), static_cast<std::size_t>(tets.size())),
+                        num_vertices);
 }
 
 Eigen::Matrix2Xi unique_edges(const Eigen::Matrix4Xi& tets) {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include <span>
 #include <vector>
 
 namespace softbench {
@@ -27,14 +28,19 @@ Eigen::Matrix2Xi unique_edges(const Eigen::Matrix3Xi& triangles);
 /// where the edge is absent, the column it would be inserted at.
 int edge_index(const Eigen::Matrix2Xi& edges, int i, int j);
 
-/// Per vertex, the tet corners at it (4 * tet + the local index 0..3), in tet order, as CSR:
-/// vertex v's are corners[offsets[v] .. offsets[v + 1]). A per-vertex gather of per-element
-/// terms walks them, and sums in the same order whatever thread does it.
-struct VertexCorners {
-  std::vector<int> offsets;  ///< #V + 1
-  std::vector<int> corners;
+/// Items grouped by their owners, as CSR: owner o's items are items[offsets[o] .. offsets[o + 1]),
+/// increasing. Item k belongs to owners[k] (a tet corner 4 t + a to its vertex, a triangle's side
+/// 3 t + k to its edge); `num_owners` bounds the owners.
+struct Incidences {
+  std::vector<int> offsets;  ///< num_owners + 1
+  std::vector<int> items;
 };
-VertexCorners vertex_corners(const Eigen::Matrix4Xi& tets, int num_vertices);
+Incidences group_by_owner(std::span<const int> owners, int num_owners);
+
+/// Per vertex, the tet corners at it (4 * tet + the local index 0..3), in tet order: vertex v's
+/// are items[offsets[v] .. offsets[v + 1]). A per-vertex gather of per-element terms walks them,
+/// and sums in the same order whatever thread does it.
+Incidences vertex_corners(const Eigen::Matrix4Xi& tets, int num_vertices);
 
 /// Edge-based topology of a triangle surface.
 struct SurfaceTopology {

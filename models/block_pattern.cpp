@@ -110,6 +110,11 @@ Eigen::Matrix3d BlockPattern::get(const BlockEntries& where) const {
 
 namespace {
 
+/// The products gather a vertex's neighbours' values into a stack buffer, at most this many
+/// neighbours at a time (nearly all vertices have fewer: ~15 in a tet mesh), so that each output
+/// is a contiguous dot product the compiler vectorises.
+constexpr int kGatherDegree = 64;
+
 /// Vertex c's neighbours [begin, begin + degree) and its three columns in the value array:
 /// strips of 3 values per neighbour, column after column (BlockPattern's layout).
 struct VertexColumns {
@@ -132,10 +137,8 @@ VertexColumns vertex_columns(const double* values, const int* outer, const int* 
 void BlockPattern::multiply(const Eigen::VectorXd& x,
                             Eigen::VectorXd& y,
                             std::span<double> chunk_dots) const {
-  // Vertices with at most this many neighbours (nearly all: ~15 in a tet mesh) gather their
-  // neighbours' x into a stack buffer, making each output a contiguous dot product that the
-  // compiler vectorises (omp simd: a fixed order, so still deterministic).
-  constexpr int kGatherDegree = 64;
+  // Gathered (kGatherDegree), the dot products run under omp simd: a fixed order, so still
+  // deterministic.
   const double* values = matrix_.valuePtr();
   const int* outer = matrix_.outerIndexPtr();
   const int* offsets = neighbour_offsets_.data();
@@ -213,7 +216,6 @@ void multiply_vectors(int num_vertices,
                       const std::array<double*, K>& out) {
   static_assert(K % 2 == 0);
   constexpr int kHalves = K / 2;
-  constexpr int kGatherDegree = 64;
 #pragma omp parallel for schedule(static) if (num_vertices > BlockPattern::kParallelVertices)
   for (int chunk = 0; chunk < num_chunks; ++chunk) {
     const int first = chunk * BlockPattern::kChunkVertices;
@@ -222,7 +224,6 @@ void multiply_vectors(int num_vertices,
     for (int c = first; c < last; ++c) {
       const VertexColumns columns = vertex_columns(values, outer, offsets, c);
       Pair y[3][kHalves] = {};
-      // Blocks of at most kGatherDegree neighbours (nearly all: ~15 in a tet mesh).
       for (int start = 0; start < columns.degree; start += kGatherDegree) {
         const int count = std::min(kGatherDegree, columns.degree - start);
         for (int slot = 0; slot < count; ++slot) {

@@ -19,15 +19,6 @@ namespace softbench {
 namespace corotational_fem {
 namespace {
 
-/// CSR offsets from per-row counts.
-std::vector<int> offsets_from_counts(const std::vector<int>& counts) {
-  std::vector<int> offsets(counts.size() + 1, 0);
-  for (std::size_t k = 0; k < counts.size(); ++k) {
-    offsets[k + 1] = offsets[k] + counts[k];
-  }
-  return offsets;
-}
-
 LinearSolverOptions solver_options(const CorotationalFemParams& params) {
   LinearSolverOptions options;
   switch (params.solver) {
@@ -76,9 +67,9 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
   }
 
   // Vertex incidences, in element order.
-  VertexCorners incidences = vertex_corners(tets_, num_vertices_);
+  Incidences incidences = vertex_corners(tets_, num_vertices_);
   vertex_offsets_ = std::move(incidences.offsets);
-  vertex_incidences_ = std::move(incidences.corners);
+  vertex_incidences_ = std::move(incidences.items);
   vertex_incidences_.resize(vertex_incidences_.size() + kIncidencePadding, 0);
 
   // Edge incidences, in element order; the edge's first (smaller) vertex's local index first.
@@ -87,7 +78,6 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
       {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}}};
   std::vector<int> element_edges(6 * num_elements);
   std::vector<int> element_codes(6 * num_elements);
-  std::vector<int> counts(static_cast<std::size_t>(edges.cols()), 0);
   for (int t = 0; t < num_elements_; ++t) {
     for (std::size_t k = 0; k < kTetEdges.size(); ++k) {
       auto [a, b] = kTetEdges[k];
@@ -97,16 +87,15 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
       const int edge = edge_index(edges, tets_(a, t), tets_(b, t));
       element_edges[6 * static_cast<std::size_t>(t) + k] = edge;
       element_codes[6 * static_cast<std::size_t>(t) + k] = 16 * t + 4 * a + b;
-      ++counts[static_cast<std::size_t>(edge)];
     }
   }
-  edge_offsets_ = offsets_from_counts(counts);
-  edge_incidences_.resize(static_cast<std::size_t>(edge_offsets_.back()) + kIncidencePadding, 0);
-  std::vector<int> fill(edge_offsets_.begin(), edge_offsets_.end() - 1);
-  for (std::size_t k = 0; k < element_edges.size(); ++k) {
-    edge_incidences_[static_cast<std::size_t>(fill[static_cast<std::size_t>(element_edges[k])]++)] =
-        element_codes[k];
+  Incidences by_edge = group_by_owner(element_edges, static_cast<int>(edges.cols()));
+  edge_offsets_ = std::move(by_edge.offsets);
+  edge_incidences_.reserve(by_edge.items.size() + kIncidencePadding);
+  for (const int item : by_edge.items) {
+    edge_incidences_.push_back(element_codes[static_cast<std::size_t>(item)]);
   }
+  edge_incidences_.resize(edge_incidences_.size() + kIncidencePadding, 0);
 
   pattern_ = std::make_unique<BlockPattern>(num_vertices_, edges);
   solver_ = make_system_solver(solver_options(params_), *pattern_);

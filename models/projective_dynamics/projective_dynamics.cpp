@@ -63,9 +63,9 @@ ProjectiveDynamicsModel::ProjectiveDynamicsModel(const TetMesh& mesh,
                                             /*sparsest_ordering=*/true);
 
   // Vertex incidences, in element order: the parallel gather sums in a fixed order.
-  VertexCorners incidences = vertex_corners(tets_, num_vertices_);
+  Incidences incidences = vertex_corners(tets_, num_vertices_);
   vertex_offsets_ = std::move(incidences.offsets);
-  vertex_incidences_ = std::move(incidences.corners);
+  vertex_incidences_ = std::move(incidences.items);
 
   quaternions_.resize(num_elements);
   deformations_.resize(num_elements);

@@ -106,9 +106,9 @@ XpbdModel::XpbdModel(const TetMesh& mesh, const Material& material, const XpbdPa
       sweep_tets(a, static_cast<Eigen::Index>(t)) = tets_[t].vertices[a];
     }
   }
-  VertexCorners incidences = vertex_corners(sweep_tets, num_vertices_);
+  Incidences incidences = vertex_corners(sweep_tets, num_vertices_);
   vertex_offsets_ = std::move(incidences.offsets);
-  vertex_tets_ = std::move(incidences.corners);
+  vertex_tets_ = std::move(incidences.items);
   for (int& corner : vertex_tets_) {
     corner /= 4;
   }
