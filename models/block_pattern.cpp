@@ -5,6 +5,7 @@
 #include "models/memory_bytes.h"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -201,9 +202,22 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
 
 namespace {
 
-/// multiply_many()'s pass for K vectors (K even: they go two to a register): per vertex, the
-/// neighbours' values of every vector are gathered (interleaved, so each matrix value meets the
-/// K vectors' values side by side) and each of the vertex's three columns is applied to all of
+/// K doubles side by side (GCC's and Clang's vector extension): for K = 4 one AVX register where
+/// the build targets AVX (softbench_cpu.cmake), two SSE2 ones otherwise.
+template <int K>
+struct Lanes;
+template <>
+struct Lanes<2> {
+  using type = Pair;
+};
+template <>
+struct Lanes<4> {
+  using type = double __attribute__((vector_size(32)));
+};
+
+/// multiply_many()'s pass for K vectors (K = 2 or 4): per vertex, the neighbours' values of every
+/// vector are gathered (interleaved, so each matrix value meets the K vectors' values side by
+/// side, in one vector of K lanes) and each of the vertex's three columns is applied to all of
 /// them.
 template <int K>
 void multiply_vectors(int num_vertices,
@@ -214,8 +228,7 @@ void multiply_vectors(int num_vertices,
                       const int* neighbours,
                       const std::array<const double*, K>& in,
                       const std::array<double*, K>& out) {
-  static_assert(K % 2 == 0);
-  constexpr int kHalves = K / 2;
+  using Vector = typename Lanes<K>::type;
 #pragma omp parallel for schedule(static) if (num_vertices > BlockPattern::kParallelVertices)
   for (int chunk = 0; chunk < num_chunks; ++chunk) {
     const int first = chunk * BlockPattern::kChunkVertices;
@@ -223,7 +236,7 @@ void multiply_vectors(int num_vertices,
     double gathered[3 * kGatherDegree * K];
     for (int c = first; c < last; ++c) {
       const VertexColumns columns = vertex_columns(values, outer, offsets, c);
-      Pair y[3][kHalves] = {};
+      Vector y[3] = {};
       for (int start = 0; start < columns.degree; start += kGatherDegree) {
         const int count = std::min(kGatherDegree, columns.degree - start);
         for (int slot = 0; slot < count; ++slot) {
@@ -236,20 +249,16 @@ void multiply_vectors(int num_vertices,
         }
         const int offset = 3 * start;
         for (int i = 0; i < 3 * count; ++i) {
-          const Pair m0 = {columns.column0[offset + i], columns.column0[offset + i]};
-          const Pair m1 = {columns.column1[offset + i], columns.column1[offset + i]};
-          const Pair m2 = {columns.column2[offset + i], columns.column2[offset + i]};
-          for (int h = 0; h < kHalves; ++h) {
-            const Pair value = load_pair(gathered + i * K + 2 * h);
-            y[0][h] += m0 * value;
-            y[1][h] += m1 * value;
-            y[2][h] += m2 * value;
-          }
+          Vector value;
+          std::memcpy(&value, gathered + i * K, sizeof(value));
+          y[0] += columns.column0[offset + i] * value;
+          y[1] += columns.column1[offset + i] * value;
+          y[2] += columns.column2[offset + i] * value;
         }
       }
       for (int k = 0; k < K; ++k) {
         for (int a = 0; a < 3; ++a) {
-          out[static_cast<std::size_t>(k)][3 * c + a] = y[a][k / 2][k % 2];
+          out[static_cast<std::size_t>(k)][3 * c + a] = y[a][k];
         }
       }
     }

@@ -45,7 +45,7 @@ namespace softbench {
 //
 // Threads: OpenMP over elements (from 16384) and over vertices, edges and CG chunks (from 2048
 // vertices), every sum in a fixed order: results are bit-identical for any thread count. The
-// shipped liver is below both thresholds (see corotational_fem_step.cpp for why).
+// shipped liver is below both thresholds (CorotationalFemModel::kParallelElements says why).
 //
 // Defaults: the fastest settings that match CHOLMOD within 1% on the shipped liver, measured
 // with bench/fem_bench.cpp (1215 vertices, 4777 tets, E 3000 Pa, nu 0.3, dt = 1/60 s, pinned at

@@ -11,23 +11,16 @@
 namespace softbench::corotational_fem {
 namespace {
 
-/// Loops over fewer elements run on one thread; the vertex and edge gathers follow the vertex
-/// count (BlockPattern::kParallelVertices, as the CG products do). Measured on the 2-core test
-/// machine: on the shipped liver (4777 tets, ~0.2 ms per element pass) two threads save ~0.25 ms
-/// of a 1.6 ms step when both cores are idle, but when another job holds a core every region
-/// waits for the descheduled thread (a scheduler time slice): the step took 35 ms instead of
-/// 1.6. From liver_x4 (22861 tets, ~1 ms per pass) the gain outweighs that risk.
-constexpr int kParallelElements = 16384;
 constexpr int kParallelVertices = BlockPattern::kParallelVertices;
 
-/// The gathers read each incidence's element terms (96 bytes each, in element order, so in no
-/// order the vertex's): on the liver they wait on those loads more than they compute. The terms
-/// kIncidencePrefetch incidences ahead are asked for early (the incidence lists are padded by as
-/// many entries, CorotationalFemModel::kIncidencePadding). Measured on the liver: 5-7% of the
-/// step, alternated with the code without it.
-template <class Terms>
-void prefetch(const std::vector<Terms>& terms, std::size_t index) {
-  __builtin_prefetch(terms.data() + index);
+/// The gathers read each incidence's element terms (a 24-byte column of a 96-byte matrix, in
+/// element order, so in no order the vertex's): on the liver they wait on those loads more than
+/// they compute. The column kIncidencePadding incidences ahead is asked for early (the incidence
+/// lists are padded by as many entries, CorotationalFemModel::kIncidencePadding): its own cache
+/// line, not the matrix's first (columns 2 and 3 lie past it). Measured on the liver: 5-7% of the
+/// step for the matrix's first line, alternated with the code without it.
+void prefetch_column(const std::vector<Matrix34d>& terms, int element, int column) {
+  __builtin_prefetch(terms[static_cast<std::size_t>(element)].col(column).data());
 }
 
 }  // namespace
@@ -65,33 +58,6 @@ void CorotationalFemModel::update_deformations(bool hold_rotations) {
   }
 }
 
-void CorotationalFemModel::compute_element_terms(double velocity_weight, double force_scale) {
-  const bool corotational =
-      params_.formulation == CorotationalFemParams::Formulation::kCorotational;
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
-  for (int t = 0; t < num_elements_; ++t) {
-    const auto e = static_cast<std::size_t>(t);
-    const TetRest& rest = elements_[e];
-    const Eigen::Matrix3d& rotation = rotations_[e];
-    Eigen::Matrix3d deformation = deformations_[e];
-    if (velocity_weight != 0.0) {
-      // F + (beta + dt) G, G the velocity gradient: folds -dt (beta + dt) K v into the force.
-      Eigen::Matrix3d velocity_edges;
-      const Eigen::Vector3d v0 = velocities_.col(tets_(0, t));
-      velocity_edges.col(0) = velocities_.col(tets_(1, t)) - v0;
-      velocity_edges.col(1) = velocities_.col(tets_(2, t)) - v0;
-      velocity_edges.col(2) = velocities_.col(tets_(3, t)) - v0;
-      deformation.noalias() += velocity_weight * (velocity_edges * rest.rest_inverse);
-    }
-    element_rhs_[e] = force_scale * element_forces(rest, rotation, deformation, lame_);
-    if (corotational) {
-      Matrix34d& w = element_gradients_[e];
-      w.rightCols<3>().noalias() = rotation * scaled_gradients_[e];
-      w.col(0) = -w.rightCols<3>().rowwise().sum();
-    }
-  }
-}
-
 void CorotationalFemModel::assemble(double mass_coefficient,
                                     double stiffness_coefficient,
                                     double dt,
@@ -107,10 +73,9 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
          k < vertex_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
       const int incidence = vertex_incidences_[static_cast<std::size_t>(k)];
-      const auto ahead = static_cast<std::size_t>(
-          vertex_incidences_[static_cast<std::size_t>(k + kIncidencePadding)] / 4);
-      prefetch(element_gradients_, ahead);
-      prefetch(element_rhs_, ahead);
+      const int ahead = vertex_incidences_[static_cast<std::size_t>(k + kIncidencePadding)];
+      prefetch_column(element_gradients_, ahead / 4, ahead % 4);
+      prefetch_column(element_rhs_, ahead / 4, ahead % 4);
       const auto e = static_cast<std::size_t>(incidence / 4);
       const int a = incidence % 4;
       const auto w = element_gradients_[e].col(a);
@@ -144,9 +109,9 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     for (int k = edge_offsets_[static_cast<std::size_t>(edge)];
          k < edge_offsets_[static_cast<std::size_t>(edge) + 1]; ++k) {
       const int incidence = edge_incidences_[static_cast<std::size_t>(k)];
-      prefetch(element_gradients_,
-               static_cast<std::size_t>(
-                   edge_incidences_[static_cast<std::size_t>(k + kIncidencePadding)] / 16));
+      const int ahead = edge_incidences_[static_cast<std::size_t>(k + kIncidencePadding)];
+      prefetch_column(element_gradients_, ahead / 16, (ahead / 4) % 4);
+      prefetch_column(element_gradients_, ahead / 16, ahead % 4);
       const Matrix34d& w = element_gradients_[static_cast<std::size_t>(incidence / 16)];
       const auto wa = w.col((incidence / 4) % 4);
       const auto wb = w.col(incidence % 4);
