@@ -47,16 +47,23 @@ LinearSolverOptions solver_options(const CorotationalFemParams& params) {
 CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
                                            const Material& material,
                                            const CorotationalFemParams& params)
+    : CorotationalFemModel(renumbered_for_locality(mesh), material, params) {
+}
+
+CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
+                                           const Material& material,
+                                           const CorotationalFemParams& params)
     : params_(params),
+      renumbering_(std::move(inner.order)),
       lame_(lame_parameters(material)),
-      num_vertices_(mesh.num_vertices()),
-      num_elements_(mesh.num_tets()),
-      tets_(mesh.tets()),
-      masses_(lumped_masses(mesh, material.density)),
-      rest_positions_(mesh.rest_positions()),
+      num_vertices_(inner.mesh.num_vertices()),
+      num_elements_(inner.mesh.num_tets()),
+      tets_(inner.mesh.tets()),
+      masses_(lumped_masses(inner.mesh, material.density)),
+      rest_positions_(inner.mesh.rest_positions()),
       total_mass_(masses_.sum()),
       rest_size_(bounding_box_diagonal(rest_positions_)),
-      constraints_(mesh.num_vertices()) {
+      constraints_(inner.mesh.num_vertices()) {
   const auto num_elements = static_cast<std::size_t>(num_elements_);
   elements_.reserve(num_elements);
   scaled_gradients_.reserve(num_elements);
@@ -120,6 +127,7 @@ void CorotationalFemModel::reset() {
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   velocity_change_ = Eigen::VectorXd::Zero(pattern_->size());
   solver_->forget();
+  publish_state();
   std::fill(quaternions_.begin(), quaternions_.end(), Eigen::Quaterniond::Identity());
   std::fill(rotations_.begin(), rotations_.end(), Eigen::Matrix3d::Identity());
   std::fill(deformations_.begin(), deformations_.end(), Eigen::Matrix3d::Identity());
@@ -134,13 +142,20 @@ void CorotationalFemModel::reset() {
 void CorotationalFemModel::set_state(const Eigen::Matrix3Xd& positions,
                                      const Eigen::Matrix3Xd& velocities) {
   check_state(positions, velocities);
-  positions_ = positions;
-  velocities_ = velocities;
+  renumbering_.to_inner(positions, positions_);
+  renumbering_.to_inner(velocities, velocities_);
+  publish_state();
+}
+
+void CorotationalFemModel::publish_state() {
+  renumbering_.to_outer(positions_, outer_positions_);
+  renumbering_.to_outer(velocities_, outer_velocities_);
 }
 
 void CorotationalFemModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
-  velocities_ = velocities;
+  renumbering_.to_inner(velocities, velocities_);
+  publish_state();
   velocity_change_.setZero();
   solver_->forget();
 }
@@ -165,7 +180,8 @@ std::size_t CorotationalFemModel::memory_bytes() const {
          + bytes_of_elements(elements_) + bytes_of_elements(scaled_gradients_)
          + bytes_of_elements(vertex_offsets_) + bytes_of_elements(vertex_incidences_)
          + bytes_of_elements(edge_offsets_) + bytes_of_elements(edge_incidences_)
-         + bytes_of(positions_) + bytes_of(velocities_) + bytes_of(constraint_forces_)
+         + renumbering_.memory_bytes() + bytes_of(positions_) + bytes_of(velocities_)
+         + bytes_of(outer_positions_) + bytes_of(outer_velocities_) + bytes_of(constraint_forces_)
          + bytes_of_elements(quaternions_) + bytes_of_elements(deformations_)
          + bytes_of_elements(rotations_) + bytes_of_elements(element_rhs_)
          + bytes_of_elements(element_gradients_) + constraints_.memory_bytes()
@@ -183,7 +199,7 @@ Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {
       forces.col(v) += element_rhs_[static_cast<std::size_t>(incidence / 4)].col(incidence % 4);
     }
   }
-  return forces;
+  return renumbering_.to_outer(forces);
 }
 
 Eigen::SparseMatrix<double> CorotationalFemModel::stiffness_matrix() {
@@ -192,7 +208,7 @@ Eigen::SparseMatrix<double> CorotationalFemModel::stiffness_matrix() {
   constraints_.bind(unconstrained.constraints);
   assemble(/*mass_coefficient=*/0.0, /*stiffness_coefficient=*/1.0, /*dt=*/0.0, unconstrained);
   constraints_.unbind();
-  return pattern_->matrix();
+  return renumbering_.to_outer(pattern_->matrix());
 }
 
 }  // namespace corotational_fem

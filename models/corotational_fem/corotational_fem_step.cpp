@@ -137,8 +137,11 @@ void CorotationalFemModel::compute_reactions(double dt) {
                      constraint_forces_);
 }
 
-StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, PhaseTimes* times) {
+StepStats CorotationalFemModel::step_timed(double dt,
+                                           const StepInput& outer_input,
+                                           PhaseTimes* times) {
   PhaseClock clock(times);
+  const StepInput input = renumbering_.to_inner(outer_input);
   constraints_.bind(input.constraints);
   update_deformations();
   clock.lap(&PhaseTimes::rotations);
@@ -156,6 +159,7 @@ StepStats CorotationalFemModel::step_timed(double dt, const StepInput& input, Ph
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
   compute_reactions(dt);
+  publish_state();
 
   StepStats stats = finish_step();
   constraints_.unbind();
