@@ -27,6 +27,12 @@ void RenumberedVertices::to_outer(const Eigen::Matrix3Xd& inner, Eigen::Matrix3X
   }
 }
 
+void RenumberedVertices::publish(const Eigen::Matrix3Xd& positions,
+                                 const Eigen::Matrix3Xd& velocities) {
+  to_outer(positions, positions_);
+  to_outer(velocities, velocities_);
+}
+
 Eigen::Matrix3Xd RenumberedVertices::to_outer(const Eigen::Matrix3Xd& inner) const {
   Eigen::Matrix3Xd outer;
   to_outer(inner, outer);
@@ -71,7 +77,8 @@ StepInput RenumberedVertices::to_inner(const StepInput& input) {
 
 std::size_t RenumberedVertices::memory_bytes() const {
   return bytes_of_elements(order_.new_of_old) + bytes_of_elements(order_.old_of_new)
-         + bytes_of_elements(constraints_) + bytes_of(forces_);
+         + bytes_of(positions_) + bytes_of(velocities_) + bytes_of_elements(constraints_)
+         + bytes_of(forces_);
 }
 
 }  // namespace softbench

@@ -24,11 +24,18 @@ RenumberedMesh renumbered_for_locality(const TetMesh& mesh);
 
 /// A model that numbers the vertices its own way behind the SoftBody interface, whose vertices are
 /// the TetMesh's: what comes in (constraints, forces, states) is mapped to the model's numbering,
-/// what goes out back to the mesh's. The mapping copies a few vectors a step; the model's passes
-/// over neighbours then read nearby memory.
+/// what goes out back to the mesh's, and the published state (positions(), velocities()) is
+/// kept here in the mesh's. The mapping copies a few vectors a step; the model's passes over
+/// neighbours then read nearby memory.
 class RenumberedVertices {
  public:
   explicit RenumberedVertices(VertexOrder order) : order_(std::move(order)) {}
+
+  /// The model's state, in the mesh's numbering: what SoftBody::positions() and velocities()
+  /// return. Sized once (no allocation after the first call).
+  void publish(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities);
+  const Eigen::Matrix3Xd& positions() const { return positions_; }
+  const Eigen::Matrix3Xd& velocities() const { return velocities_; }
 
   /// inner.col(new_of_old[v]) = outer.col(v).
   void to_inner(const Eigen::Matrix3Xd& outer, Eigen::Matrix3Xd& inner) const;
@@ -45,6 +52,8 @@ class RenumberedVertices {
 
  private:
   VertexOrder order_;
+  Eigen::Matrix3Xd positions_;   ///< published, in the mesh's numbering
+  Eigen::Matrix3Xd velocities_;  ///< published, in the mesh's numbering
   std::vector<PositionConstraint> constraints_;
   Eigen::Matrix3Xd forces_;
 };

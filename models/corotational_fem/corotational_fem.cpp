@@ -127,7 +127,7 @@ void CorotationalFemModel::reset() {
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   velocity_change_ = Eigen::VectorXd::Zero(pattern_->size());
   solver_->forget();
-  publish_state();
+  renumbering_.publish(positions_, velocities_);
   std::fill(quaternions_.begin(), quaternions_.end(), Eigen::Quaterniond::Identity());
   std::fill(rotations_.begin(), rotations_.end(), Eigen::Matrix3d::Identity());
   std::fill(deformations_.begin(), deformations_.end(), Eigen::Matrix3d::Identity());
@@ -144,18 +144,13 @@ void CorotationalFemModel::set_state(const Eigen::Matrix3Xd& positions,
   check_state(positions, velocities);
   renumbering_.to_inner(positions, positions_);
   renumbering_.to_inner(velocities, velocities_);
-  publish_state();
-}
-
-void CorotationalFemModel::publish_state() {
-  renumbering_.to_outer(positions_, outer_positions_);
-  renumbering_.to_outer(velocities_, outer_velocities_);
+  renumbering_.publish(positions_, velocities_);
 }
 
 void CorotationalFemModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   check_velocities(velocities);
   renumbering_.to_inner(velocities, velocities_);
-  publish_state();
+  renumbering_.publish(positions_, velocities_);
   velocity_change_.setZero();
   solver_->forget();
 }
@@ -181,12 +176,12 @@ std::size_t CorotationalFemModel::memory_bytes() const {
          + bytes_of_elements(vertex_offsets_) + bytes_of_elements(vertex_incidences_)
          + bytes_of_elements(edge_offsets_) + bytes_of_elements(edge_incidences_)
          + renumbering_.memory_bytes() + bytes_of(positions_) + bytes_of(velocities_)
-         + bytes_of(outer_positions_) + bytes_of(outer_velocities_) + bytes_of(constraint_forces_)
-         + bytes_of_elements(quaternions_) + bytes_of_elements(deformations_)
-         + bytes_of_elements(rotations_) + bytes_of_elements(element_rhs_)
-         + bytes_of_elements(element_gradients_) + constraints_.memory_bytes()
-         + pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes()
-         + bytes_of(known_changes_) + bytes_of(rhs_) + bytes_of(velocity_change_);
+         + bytes_of(constraint_forces_) + bytes_of_elements(quaternions_)
+         + bytes_of_elements(deformations_) + bytes_of_elements(rotations_)
+         + bytes_of_elements(element_rhs_) + bytes_of_elements(element_gradients_)
+         + constraints_.memory_bytes() + pattern_->memory_bytes() + solver_->memory_bytes()
+         + elimination_.memory_bytes() + bytes_of(known_changes_) + bytes_of(rhs_)
+         + bytes_of(velocity_change_);
 }
 
 Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {

@@ -63,8 +63,8 @@ class CorotationalFemModel final : public SoftBody {
   StepStats step(double dt, const StepInput& input) override { return step_timed(dt, input); }
   void reset() override;
 
-  const Eigen::Matrix3Xd& positions() const override { return outer_positions_; }
-  const Eigen::Matrix3Xd& velocities() const override { return outer_velocities_; }
+  const Eigen::Matrix3Xd& positions() const override { return renumbering_.positions(); }
+  const Eigen::Matrix3Xd& velocities() const override { return renumbering_.velocities(); }
   /// Also drops the solve's warm start (the last dv, made for the old velocities); the element
   /// rotations' warm starts depend on the positions only and are kept.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
@@ -96,8 +96,6 @@ class CorotationalFemModel final : public SoftBody {
                        const Material& material,
                        const CorotationalFemParams& params);
 
-  /// The mesh's vertex numbering from the model's, after a change of state.
-  void publish_state();
   /// Per element: the right-hand-side part force_scale * f_a evaluated at F + velocity_weight G
   /// (G the velocity gradient) and the rotated gradients w_a.
   void compute_element_terms(double velocity_weight, double force_scale);
@@ -143,8 +141,6 @@ class CorotationalFemModel final : public SoftBody {
   // State.
   Eigen::Matrix3Xd positions_;
   Eigen::Matrix3Xd velocities_;
-  Eigen::Matrix3Xd outer_positions_;   ///< positions_ in the mesh's numbering
-  Eigen::Matrix3Xd outer_velocities_;  ///< velocities_ in the mesh's numbering
   Eigen::Matrix3Xd constraint_forces_;
   std::vector<Eigen::Quaterniond> quaternions_;  ///< warm starts (rotation "quaternion")
 

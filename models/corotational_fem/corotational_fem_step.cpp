@@ -159,7 +159,7 @@ StepStats CorotationalFemModel::step_timed(double dt,
 
   apply_velocity_change(constraints_, dt, velocity_change_, positions_, velocities_);
   compute_reactions(dt);
-  publish_state();
+  renumbering_.publish(positions_, velocities_);
 
   StepStats stats = finish_step();
   constraints_.unbind();

@@ -583,75 +583,10 @@ TEST(CorotationalFem, ResultsDoNotDependOnTheThreadCount) {
 }
 
 TEST(CorotationalFem, ResultsDoNotDependOnHowTheMeshNumbersItsVertices) {
-  // The model numbers vertices and elements its own way; what goes in and out is in the mesh's
-  // numbering. The same box numbered at random, driven the same way (pins, a penalty grasp,
-  // a force, a new velocity field, a new state) with exact solves, moves the same to round-off.
-  const MeshData box = test::box_tets(5, 2, 2, 0.25, 0.1, 0.1);
-  const auto num_vertices = static_cast<int>(box.vertices.cols());
-  std::vector<int> new_of_old(static_cast<std::size_t>(num_vertices));
-  std::iota(new_of_old.begin(), new_of_old.end(), 0);
-  std::mt19937 random(11);
-  std::shuffle(new_of_old.begin(), new_of_old.end(), random);
-  const auto renumber = [&](const Eigen::Matrix3Xd& in) {
-    Eigen::Matrix3Xd out(3, in.cols());
-    for (int v = 0; v < num_vertices; ++v) {
-      out.col(new_of_old[static_cast<std::size_t>(v)]) = in.col(v);
-    }
-    return out;
-  };
-  MeshData shuffled = box;
-  shuffled.vertices = renumber(box.vertices);
-  for (Eigen::Index t = 0; t < box.tetrahedra.cols(); ++t) {
-    for (int a = 0; a < 4; ++a) {
-      shuffled.tetrahedra(a, box.tetrahedra.cols() - 1 - t) =
-          new_of_old[static_cast<std::size_t>(box.tetrahedra(a, t))];
-    }
-  }
-  const TetMesh meshes[] = {make_tet_mesh(box), make_tet_mesh(shuffled)};
-
-  const int grasped = 3 * num_vertices / 4;
-  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, num_vertices);
-  forces.col(num_vertices / 2) = Eigen::Vector3d(0.0, 0.3, -0.5);  // N
-  Eigen::Matrix3Xd spin(3, num_vertices);  // 2 rad/s about z through the centroid
-  const Eigen::Vector3d centroid = box.vertices.rowwise().mean();
-  for (int v = 0; v < num_vertices; ++v) {
-    spin.col(v) = Eigen::Vector3d(0.0, 0.0, 2.0).cross(box.vertices.col(v) - centroid);
-  }
-  std::vector<std::unique_ptr<SoftBody>> bodies;
-  for (int k = 0; k < 2; ++k) {
-    const TetMesh& mesh = meshes[k];
-    const auto vertex = [&](int v) { return k == 0 ? v : new_of_old[static_cast<std::size_t>(v)]; };
-    std::vector<PositionConstraint> constraints = pin_min_x_face(mesh);
-    constraints.push_back({vertex(grasped),
-                           mesh.rest_positions().col(vertex(grasped)) + Eigen::Vector3d(0, 0, 0.01),
-                           500.0});
-    const Eigen::Matrix3Xd body_forces = k == 0 ? forces : renumber(forces);
-    StepInput input;
-    input.constraints = constraints;
-    input.external_forces = &body_forces;
-    auto body = make_corotational_fem(mesh, kMaterial, with_solver(Params::LinearSolver::kCholmod));
-    for (int step = 0; step < 10; ++step) {
-      ASSERT_TRUE(body->step(kFemDt, input).finite);
-    }
-    body->set_velocities(k == 0 ? spin : renumber(spin));
-    for (int step = 0; step < 5; ++step) {
-      ASSERT_TRUE(body->step(kFemDt, input).finite);
-    }
-    // A new state: the rest shape, lifted, at rest.
-    const Eigen::Matrix3Xd lifted = mesh.rest_positions().colwise() + Eigen::Vector3d(0, 0, 0.02);
-    body->set_state(lifted, Eigen::Matrix3Xd::Zero(3, num_vertices));
-    ASSERT_TRUE(body->step(kFemDt, input).finite);
-    bodies.push_back(std::move(body));
-  }
-  const double scale = (bodies[0]->positions() - meshes[0].rest_positions()).cwiseAbs().maxCoeff();
-  ASSERT_GT(scale, 1e-3);
-  EXPECT_LT((renumber(bodies[0]->positions()) - bodies[1]->positions()).cwiseAbs().maxCoeff(),
-            kForceRoundoff * scale);
-  EXPECT_TRUE(renumber(bodies[0]->velocities()).isApprox(bodies[1]->velocities(), 1e-9));
-  EXPECT_TRUE(
-      renumber(bodies[0]->constraint_forces()).isApprox(bodies[1]->constraint_forces(), 1e-9));
-  EXPECT_NEAR(bodies[0]->elastic_energy(), bodies[1]->elastic_energy(),
-              1e-9 * bodies[0]->elastic_energy());
+  // The model numbers vertices and elements its own way (renumbered_vertices.h).
+  test::expect_motion_independent_of_vertex_numbering([](const TetMesh& mesh) {
+    return make_corotational_fem(mesh, kMaterial, with_solver(Params::LinearSolver::kCholmod));
+  });
 }
 
 // ---------------------------------------------------------------------------------------------
