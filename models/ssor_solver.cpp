@@ -44,16 +44,36 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
       direction_(pattern.size()),
       product_(pattern.size()),
       sweep_(pattern.size()),
-      carry_(pattern.size()) {}
+      carry_(pattern.size()) {
+}
 
-bool SsorConjugateGradientSolver::load_diagonal(const BlockPattern& a) {
-  const double* values = a.matrix().valuePtr();
+bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
+  // Column c's strips: sums(i, k) adds entry (n, i) of column (c, k) over the neighbours n, i.e.
+  // (Z^T A)'s block at c, the transpose of (A Z)_c (A is symmetric); the strip of c itself is
+  // D_c. One pass over the values for both.
+  coarse_.setZero();
   for (int c = 0; c < num_vertices_; ++c) {
-    const BlockEntries& where = a.vertex_block(c);
+    const auto degree = static_cast<int>(a.neighbours(c).size());
+    const int own = a.own_slot(c);
+    const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
+    Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * static_cast<std::size_t>(c));
     Eigen::Matrix3d block;
-    for (int k = 0; k < 9; ++k) {
-      block(k / 3, k % 3) = values[where[static_cast<std::size_t>(k)]];
+    for (int k = 0; k < 3; ++k) {
+      double s0 = 0.0;
+      double s1 = 0.0;
+      double s2 = 0.0;
+      const double* strip = column + 3 * degree * k;
+      for (int slot = 0; slot < degree; ++slot) {
+        s0 += strip[3 * slot];
+        s1 += strip[3 * slot + 1];
+        s2 += strip[3 * slot + 2];
+      }
+      sums(0, k) = s0;
+      sums(1, k) = s1;
+      sums(2, k) = s2;
+      block.col(k) = Eigen::Map<const Eigen::Vector3d>(strip + 3 * own);
     }
+    coarse_ += sums;
     Eigen::Matrix3d inverse;
     bool invertible = false;
     block.computeInverseWithCheck(inverse, invertible);
@@ -122,7 +142,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     x.setZero();
     return report;
   }
-  if (!load_diagonal(a)) {
+  if (!load_columns(a)) {
     x.setConstant(std::numeric_limits<double>::quiet_NaN());
     report.succeeded = false;
     report.residual = std::numeric_limits<double>::quiet_NaN();
@@ -155,20 +175,19 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
       g[3 * c + k] = bs[3 * c + k] - upper[k];
     }
   }
-  // (D + L) y = g, y into g (g_c is consumed at c); and in the same pass over the matrix
-  // b^ = (D + L)^-1 b (into z), the scale of round-off for the transformed residual.
+  // (D + L) y = g, y into g (g_c is consumed at c); and the scale of round-off for the
+  // transformed residual r^ = (D + L)^-1 r: |D^-1 b|, the transformed right-hand side's size up
+  // to the coupling of the sweep (a floor at 1e-14 of it needs no more; (D + L)^-1 b itself
+  // cost another sweep's products, 2% of corotational_fem's step on the liver).
   double transformed_rhs_squared = 0.0;
   for (int c = 0; c < n; ++c) {
     double lower[3];
     neighbour_sum(a, c, /*lower=*/true, g, lower);
-    const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
-                            g[3 * c + 2] - lower[2]};
+    const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1], g[3 * c + 2] - lower[2]};
     block_multiply(inverse + 9 * c, rest, g + 3 * c);
-    neighbour_sum(a, c, /*lower=*/true, z, lower);
-    const double rhs_rest[3] = {bs[3 * c] - lower[0], bs[3 * c + 1] - lower[1],
-                                bs[3 * c + 2] - lower[2]};
-    block_multiply(inverse + 9 * c, rhs_rest, z + 3 * c);
-    transformed_rhs_squared += dot3(z + 3 * c, z + 3 * c);
+    double scaled[3];
+    block_multiply(inverse + 9 * c, bs + 3 * c, scaled);
+    transformed_rhs_squared += dot3(scaled, scaled);
   }
   const auto apply_d = [d](int c, const double* in, double* out) {
     block_multiply(d + 9 * c, in, out);
@@ -214,9 +233,8 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     }
     return curvature;
   };
-  eisenstat_iterations(
-      n, xs, r, z, p, q, start.rz, roundoff, options_.tolerance, options_.max_iterations,
-      estimate, report, sweeps, apply_d);
+  eisenstat_iterations(n, xs, r, z, p, q, start.rz, roundoff, options_.tolerance,
+                       options_.max_iterations, estimate, report, sweeps, apply_d);
 
   // x = (D + U)^-1 x^ ...
   for (int c = n - 1; c >= 0; --c) {
@@ -244,8 +262,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   // does not resist a translation, so the sweeps' smoothing leaves its error nearly untouched:
   // without it a free body thrown across the scene drifted 1e-6 of its travel from its
   // momentum balance in 1 s at the default tolerance; with it, round-off.
-  const Eigen::Matrix3d coarse = translation_sums(a);
-  const Eigen::Vector3d shift = coarse.ldlt().solve(residual_sum);
+  const Eigen::Vector3d shift = coarse_.ldlt().solve(residual_sum);
   double true_squared = 0.0;
   if (shift.allFinite() && shift.squaredNorm() > 0.0) {
     for (int c = 0; c < n; ++c) {
@@ -263,33 +280,6 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   report.residual = std::sqrt(true_squared) / rhs_norm;
   report.succeeded = std::isfinite(report.residual) && x.allFinite();
   return report;
-}
-
-Eigen::Matrix3d SsorConjugateGradientSolver::translation_sums(const BlockPattern& a) {
-  // Column c's strips: row_sums_[c](i, k) sums entry (n, i) of column (c, k) over the
-  // neighbours n, i.e. (Z^T A)'s block at c, the transpose of (A Z)_c (A is symmetric).
-  Eigen::Matrix3d total = Eigen::Matrix3d::Zero();
-  for (int c = 0; c < num_vertices_; ++c) {
-    const auto degree = static_cast<int>(a.neighbours(c).size());
-    const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
-    Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * static_cast<std::size_t>(c));
-    for (int k = 0; k < 3; ++k) {
-      double s0 = 0.0;
-      double s1 = 0.0;
-      double s2 = 0.0;
-      const double* strip = column + 3 * degree * k;
-      for (int slot = 0; slot < degree; ++slot) {
-        s0 += strip[3 * slot];
-        s1 += strip[3 * slot + 1];
-        s2 += strip[3 * slot + 2];
-      }
-      sums(0, k) = s0;
-      sums(1, k) = s1;
-      sums(2, k) = s2;
-    }
-    total += sums;
-  }
-  return total;
 }
 
 std::size_t SsorConjugateGradientSolver::memory_bytes() const {

@@ -41,20 +41,20 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   std::size_t memory_bytes() const override;
 
  private:
-  /// D_c and D_c^-1 of every vertex, from the matrix's values; false if a block is singular or
-  /// not finite.
-  bool load_diagonal(const BlockPattern& a);
+  /// D_c and D_c^-1 of every vertex, (Z^T A)'s block at each vertex (row_sums_) and Z^T A Z
+  /// (coarse_) for the three rigid translations Z, in one pass over the matrix's values; false
+  /// if a diagonal block is singular or not finite.
+  bool load_columns(const BlockPattern& a);
   /// sum over c's neighbours n before c (lower: the forward sweep's) or after it (upper) of
   /// A_cn y_n, into out[3].
   static void neighbour_sum(const BlockPattern& a, int c, bool lower, const double* y, double* out);
-  /// Z^T A Z for the three rigid translations Z, and each vertex's block of Z^T A (row_sums_).
-  Eigen::Matrix3d translation_sums(const BlockPattern& a);
 
   LinearSolverOptions options_;
   int num_vertices_ = 0;
   std::vector<double> diagonal_;  ///< 9 per vertex, row-major D_c
   std::vector<double> inverse_;   ///< 9 per vertex, D_c^-1
   std::vector<double> row_sums_;  ///< 9 per vertex, column-major: (Z^T A)'s block at the vertex
+  Eigen::Matrix3d coarse_;        ///< Z^T A Z
   // Work vectors (3 #V), sized once.
   Eigen::VectorXd residual_;  ///< r^
   Eigen::VectorXd preconditioned_;
