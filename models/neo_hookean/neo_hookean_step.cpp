@@ -191,7 +191,9 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
     Eigen::Map<Eigen::Matrix3Xd> change(newton_step_.data(), 3, num_vertices_);
     for (const int c : constraints_.exact_vertices()) {
       // Exactly on the target (a sliding vertex on its plane), whatever the solve's round-off.
-      change.col(c) -= constraints_.of(c)->held * change.col(c);
+      if (const PositionConstraint* constraint = constraints_.of(c); constraint != nullptr) {
+        change.col(c) -= constraint->held * change.col(c);
+      }
     }
     step_norm = change.colwise().norm().maxCoeff();
     if (!std::isfinite(step_norm)) {

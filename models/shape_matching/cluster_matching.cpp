@@ -27,7 +27,6 @@ constexpr double kPseudoInverseCutoff = 1e-9;
 /// without bound as det A -> 0 and has no meaning for det A < 0.
 constexpr double kMinVolumeRatio = 0.05;
 
-
 /// Held particles whose linear rest moment about their centre (in the scaled basis, per unit
 /// of their weight) stays below this are at one point: 1e-6 of the cluster's RMS radius apart
 /// at most, far below any two mesh vertices, far above round-off.
@@ -65,7 +64,7 @@ Eigen::Matrix<double, 3, D> blend_fit(const Eigen::Matrix<double, 3, D>& fit,
   // kMinVolumeRatio (2.7x), or the few free directions of a held cluster would carry its goals
   // far away (20x across a held plane at det 0.05).
   const int free = 3 - std::min(held_rank, 3);
-  const double min_det = free == 3 ? kMinVolumeRatio
+  const double min_det = free == 3   ? kMinVolumeRatio
                          : free == 2 ? std::pow(kMinVolumeRatio, 2.0 / 3.0)
                          : free == 1 ? std::cbrt(kMinVolumeRatio)
                                      : kMinVolumeRatio;
@@ -469,11 +468,11 @@ int ClusterMatcher::match_held(int cluster,
 
   // The rotation: the held members' first, the free members' among what they leave open.
   const Eigen::Vector3d mean_linear = held.mean.template head<3>();
-  const Eigen::Matrix3d held_apq = held_moment.template rightCols<3>()
-                                   - (held.weight * (held_centre - reference))
-                                         * mean_linear.transpose();
-  const Eigen::Matrix3d free_apq = apq.template leftCols<3>()
-                                   + (held_centre - centre) * mean_linear.transpose() - held_apq;
+  const Eigen::Matrix3d held_apq =
+      held_moment.template rightCols<3>()
+      - (held.weight * (held_centre - reference)) * mean_linear.transpose();
+  const Eigen::Matrix3d free_apq =
+      apq.template leftCols<3>() + (held_centre - centre) * mean_linear.transpose() - held_apq;
   Eigen::Quaterniond& rotation = rotations_[index(cluster)];
   int iterations = 0;
   const Eigen::Vector3d line = held_apq * held.axis;  // rank 1: held_apq = line axis^T
@@ -500,10 +499,9 @@ int ClusterMatcher::match_held(int cluster,
     const double cosine = m.trace() - u.dot(m * u);
     const double sine =
         u.dot(Eigen::Vector3d(m(2, 1) - m(1, 2), m(0, 2) - m(2, 0), m(1, 0) - m(0, 1)));
-    const double angle =
-        std::hypot(cosine, sine) > kHeldLineCutoff * kHeldLineCutoff * apq.norm()
-            ? std::atan2(sine, cosine)
-            : 0.0;
+    const double angle = std::hypot(cosine, sine) > kHeldLineCutoff * kHeldLineCutoff * apq.norm()
+                             ? std::atan2(sine, cosine)
+                             : 0.0;
     rotation = (Eigen::Quaterniond(Eigen::AngleAxisd(angle, u)) * aligned).normalized();
   } else if (params_.rotation == ShapeMatchingParams::Rotation::kSvd) {
     // One held point (or a line collapsed onto one): the free members turn about it.
@@ -517,9 +515,8 @@ int ClusterMatcher::match_held(int cluster,
   // The deformable fit, anchored: the rigid placement the held particles give (c_H, R) plus
   // the free fit's deviation from it, projected to vanish at the held members:
   // [sR 0] + columns 1..D of (T_0 - Rig) P, Rig = [c_H - r - sR q_H, sR 0].
-  const Eigen::Matrix<double, D, D> moment_inverse =
-      Eigen::Map<const Eigen::Matrix<double, D, D>>(moment_inverse_.data()
-                                                    + index(cluster) * D * D);
+  const Eigen::Matrix<double, D, D> moment_inverse = Eigen::Map<const Eigen::Matrix<double, D, D>>(
+      moment_inverse_.data() + index(cluster) * D * D);
   Eigen::Matrix<double, 3, D> rigid = Eigen::Matrix<double, 3, D>::Zero();
   rigid.template leftCols<3>() = scale * r;
   const Eigen::Matrix<double, 3, D> deviation = apq.lazyProduct(moment_inverse) - rigid;
@@ -649,9 +646,8 @@ void ClusterMatcher::refit_held_with(int cluster, HeldCluster& held) {
   // the held members' span, orthogonally in that metric, and P = I - Z takes a fit's deviation
   // E to the one nearest it (in the members' weighted goal displacements) that vanishes at
   // every held member: E P, never larger than E, however the held members lie.
-  const Eigen::Matrix<double, D, D> moment_inverse =
-      Eigen::Map<const Eigen::Matrix<double, D, D>>(moment_inverse_.data()
-                                                    + index(cluster) * D * D);
+  const Eigen::Map<const Eigen::Matrix<double, D, D>> moment_inverse(moment_inverse_.data()
+                                                                     + index(cluster) * D * D);
   // lazyProduct throughout: coefficient loops; the default product sends these small
   // dynamic-size blocks to the general matrix product.
   Range metric_range(F, range.cols());  // G^+ U
