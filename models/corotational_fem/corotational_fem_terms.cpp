@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: MIT
 // The corotational FEM's element terms (a step's second phase): per element, the right-hand side
-// part of its four nodes and the rotated, volume-scaled gradients w_a the gathers read.
+// part of its four nodes and the rotated, volume-scaled gradients w_a the gathers read. The
+// elastic forces are f_a = -V R sigma(sym(R^T F) - I) b_a (b_a the shape gradients, the rows of
+// Dm^-1 for a = 1..3 and b_0 = -(b_1 + b_2 + b_3)): with R the polar rotation of F, minus the
+// gradient of tet_element.h's element_energy (the dR terms vanish: R^T F is symmetric and
+// dR = R W with W skew); with R = I, linear FEM's f = -K (x - X).
 #include "models/corotational_fem/corotational_fem_model.h"
 
 #include <algorithm>
@@ -51,15 +55,29 @@ template <bool kTransposeA>
   }
 }
 
-/// Copies 3x3 matrices (column-major, Eigen's layout) into lanes; unused lanes get `fill`.
-[[gnu::always_inline]] inline void load(const Eigen::Matrix3d* matrices,
-                                        int count,
-                                        double fill,
-                                        Lanes3x3& out) {
+/// Copies `count` 3x3 matrices (column-major, Eigen's layout) into lanes; unused lanes get 0.
+[[gnu::always_inline]] inline void load(const Eigen::Matrix3d* matrices, int count, Lanes3x3& out) {
   for (int lane = 0; lane < kLanes; ++lane) {
     for (int k = 0; k < 9; ++k) {
-      out[k][lane] = lane < count ? matrices[lane].data()[k] : fill;
+      out[k][lane] = lane < count ? matrices[lane].data()[k] : 0.0;
     }
+  }
+}
+
+/// A lane's four node columns from its last three, h_1..h_3 (the columns of `h`): scale h_a,
+/// and node 0 minus their sum (the four sum to zero, as b_0 = -(b_1 + b_2 + b_3)).
+[[gnu::always_inline]] inline void store_nodes(const Lanes3x3& h,
+                                               int lane,
+                                               double scale,
+                                               Matrix34d& out) {
+  for (int i = 0; i < 3; ++i) {
+    const double h1 = h[i][lane];
+    const double h2 = h[i + 3][lane];
+    const double h3 = h[i + 6][lane];
+    out(i, 0) = -scale * ((h1 + h2) + h3);
+    out(i, 1) = scale * h1;
+    out(i, 2) = scale * h2;
+    out(i, 3) = scale * h3;
   }
 }
 
@@ -82,8 +100,8 @@ void CorotationalFemModel::compute_element_terms(double velocity_weight, double 
     alignas(64) Lanes3x3 work;
     alignas(64) Lanes3x3 product;
     alignas(64) double volume[kLanes];
-    load(rotations_.data() + begin, count, 0.0, rotation);
-    load(deformations_.data() + begin, count, 0.0, deformation);
+    load(rotations_.data() + begin, count, rotation);
+    load(deformations_.data() + begin, count, deformation);
     for (int lane = 0; lane < kLanes; ++lane) {
       const TetRest* rest =
           lane < count ? &elements_[begin + static_cast<std::size_t>(lane)] : nullptr;
@@ -136,33 +154,15 @@ void CorotationalFemModel::compute_element_terms(double velocity_weight, double 
     }
     multiply_transposed(product, rest_inverse, work);
     for (int lane = 0; lane < count; ++lane) {
-      Matrix34d& rhs = element_rhs_[begin + static_cast<std::size_t>(lane)];
-      for (int i = 0; i < 3; ++i) {
-        const double h0 = work[i][lane];
-        const double h1 = work[i + 3][lane];
-        const double h2 = work[i + 6][lane];
-        rhs(i, 0) = force_scale * ((h0 + h1) + h2);
-        rhs(i, 1) = -force_scale * h0;
-        rhs(i, 2) = -force_scale * h1;
-        rhs(i, 3) = -force_scale * h2;
-      }
+      store_nodes(work, lane, -force_scale, element_rhs_[begin + static_cast<std::size_t>(lane)]);
     }
     if (!corotational) {
       continue;  // w_a stays sqrt(V) b_a (reset())
     }
-    load(scaled_gradients_.data() + begin, count, 0.0, work);
+    load(scaled_gradients_.data() + begin, count, work);
     multiply<false>(rotation, work, product);
     for (int lane = 0; lane < count; ++lane) {
-      Matrix34d& w = element_gradients_[begin + static_cast<std::size_t>(lane)];
-      for (int i = 0; i < 3; ++i) {
-        const double w1 = product[i][lane];
-        const double w2 = product[i + 3][lane];
-        const double w3 = product[i + 6][lane];
-        w(i, 0) = -((w1 + w2) + w3);
-        w(i, 1) = w1;
-        w(i, 2) = w2;
-        w(i, 3) = w3;
-      }
+      store_nodes(product, lane, 1.0, element_gradients_[begin + static_cast<std::size_t>(lane)]);
     }
   }
 }
