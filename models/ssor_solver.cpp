@@ -108,7 +108,12 @@ bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
   double s00 = 0.0, s01 = 0.0, s02 = 0.0;
   double s10 = 0.0, s11 = 0.0, s12 = 0.0;
   double s20 = 0.0, s21 = 0.0, s22 = 0.0;
-  for (int slot = first; slot < last; ++slot) {
+  // The sweep's newest value is its nearest neighbour's (c - 1 forward, c + 1 backward: the
+  // vertex order keeps neighbours close), so that neighbour is added last, and the sums over the
+  // others do not wait for it: ascending for the lower part, descending for the upper.
+  const int step = lower ? 1 : -1;
+  const int begin = lower ? first : last - 1;
+  for (int i = 0, slot = begin; i < last - first; ++i, slot += step) {
     const double* yn = y + 3 * neighbour[slot];
     const double y0 = yn[0];
     const double y1 = yn[1];

@@ -110,8 +110,10 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
   deformations_.resize(num_elements);
   rotations_.resize(num_elements);
   quaternions_.resize(num_elements);
-  element_rhs_.resize(num_elements);
-  element_gradients_.resize(num_elements);
+  // One element more than the mesh: the gathers load an element's last column with the double
+  // after it (load_column in corotational_fem_step.cpp).
+  element_rhs_.resize(num_elements + 1, Matrix34d::Zero());
+  element_gradients_.resize(num_elements + 1, Matrix34d::Zero());
   known_changes_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   rhs_.resize(pattern_->size());
   reset();

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 
 namespace softbench::corotational_fem {
 namespace {
@@ -21,6 +22,31 @@ constexpr int kParallelVertices = BlockPattern::kParallelVertices;
 /// step for the matrix's first line, alternated with the code without it.
 void prefetch_column(const std::vector<Matrix34d>& terms, int element, int column) {
   __builtin_prefetch(terms[static_cast<std::size_t>(element)].col(column).data());
+}
+
+/// Four doubles in one vector (an AVX register at x86-64-v3, two SSE2 ones at the baseline).
+/// The gathers sum 3x3 outer products w_a w_b^T column by column: a column is w_a times one
+/// entry of w_b, three multiply-adds of a vector an incidence where Eigen's 3x3 product made
+/// nine scalar ones and a separate dot product (now the trace). Measured on the liver: 6-10%
+/// less time a step.
+using Quad = double __attribute__((vector_size(4 * sizeof(double))));
+
+/// Column `a` of an element's terms into lanes 0-2 of `column`, lane 3 whatever follows it (the
+/// next column's first entry, or the padding element's: the term arrays have one element more
+/// than the mesh, so the load never leaves them). An output argument: a 32-byte vector returned
+/// by value has another ABI at the baseline level (GCC's -Wpsabi).
+[[gnu::always_inline]] inline void load_column(const Matrix34d& terms, int a, Quad& column) {
+  std::memcpy(&column, terms.col(a).data(), sizeof column);
+}
+
+/// The 3x3 matrix whose column j is lanes 0-2 of column<j>.
+[[gnu::always_inline]] inline Eigen::Matrix3d to_matrix(const Quad& column0,
+                                                        const Quad& column1,
+                                                        const Quad& column2) {
+  Eigen::Matrix3d m;
+  m << column0[0], column1[0], column2[0], column0[1], column1[1], column2[1], column0[2],
+      column1[2], column2[2];
+  return m;
 }
 
 }  // namespace
@@ -67,9 +93,10 @@ void CorotationalFemModel::assemble(double mass_coefficient,
   const double mass_damping = params_.rayleigh_mass;
 #pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int v = 0; v < num_vertices_; ++v) {
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    double inner = 0.0;
-    Eigen::Vector3d rhs = Eigen::Vector3d::Zero();
+    Quad outer0{};  // column j of sum w w^T in outer<j>'s lanes 0-2
+    Quad outer1{};
+    Quad outer2{};
+    Quad rhs{};
     for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
          k < vertex_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
       const int incidence = vertex_incidences_[static_cast<std::size_t>(k)];
@@ -78,11 +105,18 @@ void CorotationalFemModel::assemble(double mass_coefficient,
       prefetch_column(element_rhs_, ahead / 4, ahead % 4);
       const auto e = static_cast<std::size_t>(incidence / 4);
       const int a = incidence % 4;
-      const auto w = element_gradients_[e].col(a);
-      outer.noalias() += w * w.transpose();
-      inner += w.squaredNorm();
-      rhs += element_rhs_[e].col(a);
+      const Matrix34d& w = element_gradients_[e];
+      Quad wa;
+      load_column(w, a, wa);
+      outer0 += wa * w(0, a);
+      outer1 += wa * w(1, a);
+      outer2 += wa * w(2, a);
+      Quad rhs_part;
+      load_column(element_rhs_[e], a, rhs_part);
+      rhs += rhs_part;
     }
+    const Eigen::Matrix3d outer = to_matrix(outer0, outer1, outer2);
+    const double inner = outer.trace();  // sum |w|^2
     // sum_e K_aa = (lambda + mu) sum w w^T + mu sum |w|^2 I.
     Eigen::Matrix3d block = (stiffness_coefficient * (lambda + mu)) * outer;
     const double mass = masses_(v);
@@ -99,13 +133,14 @@ void CorotationalFemModel::assemble(double mass_coefficient,
       force += constraint->stiffness * constraint->gap(positions_.col(v) + dt * velocities_.col(v));
     }
     pattern_->set(pattern_->vertex_block(v), block);
-    rhs_.segment<3>(3 * v) = rhs + dt * force;
+    rhs_.segment<3>(3 * v) = Eigen::Vector3d(rhs[0], rhs[1], rhs[2]) + dt * force;
   }
   const auto num_edges = static_cast<int>(edge_offsets_.size()) - 1;
 #pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int edge = 0; edge < num_edges; ++edge) {
-    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
-    double inner = 0.0;
+    Quad outer0{};  // column j of sum w_a w_b^T in outer<j>'s lanes 0-2
+    Quad outer1{};
+    Quad outer2{};
     for (int k = edge_offsets_[static_cast<std::size_t>(edge)];
          k < edge_offsets_[static_cast<std::size_t>(edge) + 1]; ++k) {
       const int incidence = edge_incidences_[static_cast<std::size_t>(k)];
@@ -113,11 +148,15 @@ void CorotationalFemModel::assemble(double mass_coefficient,
       prefetch_column(element_gradients_, ahead / 16, (ahead / 4) % 4);
       prefetch_column(element_gradients_, ahead / 16, ahead % 4);
       const Matrix34d& w = element_gradients_[static_cast<std::size_t>(incidence / 16)];
-      const auto wa = w.col((incidence / 4) % 4);
-      const auto wb = w.col(incidence % 4);
-      outer.noalias() += wa * wb.transpose();
-      inner += wa.dot(wb);
+      Quad wa;
+      load_column(w, (incidence / 4) % 4, wa);
+      const int b = incidence % 4;
+      outer0 += wa * w(0, b);
+      outer1 += wa * w(1, b);
+      outer2 += wa * w(2, b);
     }
+    const Eigen::Matrix3d outer = to_matrix(outer0, outer1, outer2);
+    const double inner = outer.trace();  // sum w_a . w_b
     // sum_e K_ab = lambda sum w_a w_b^T + mu (sum w_a w_b^T)^T + mu sum (w_a . w_b) I.
     Eigen::Matrix3d block = lambda * outer + mu * outer.transpose();
     block.diagonal().array() += mu * inner;
