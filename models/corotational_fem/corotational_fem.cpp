@@ -187,7 +187,7 @@ std::size_t CorotationalFemModel::memory_bytes() const {
 }
 
 Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {
-  compute_element_terms(/*velocity_weight=*/0.0, /*force_scale=*/1.0);
+  compute_element_terms({.velocity_weight = 0.0, .force_scale = 1.0});
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   for (int v = 0; v < num_vertices_; ++v) {
     for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
@@ -200,7 +200,7 @@ Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {
 }
 
 Eigen::SparseMatrix<double> CorotationalFemModel::stiffness_matrix() {
-  compute_element_terms(0.0, 1.0);
+  compute_element_terms({.velocity_weight = 0.0, .force_scale = 1.0});
   const StepInput unconstrained;
   constraints_.bind(unconstrained.constraints);
   assemble(/*mass_coefficient=*/0.0, /*stiffness_coefficient=*/1.0, /*dt=*/0.0, unconstrained);

@@ -74,7 +74,7 @@ struct CorotationalFemParams {
   /// lag behind a rotating element (liver sag after 1 s vs SVD: 1.9% with 1, 0.4% with 2, 0.15%
   /// with 3).
   int rotation_iterations = 3;
-  /// Quaternion only, rad: elements stop iterating (in batches of 16) once their next updates
+  /// Quaternion only, rad: elements stop iterating (in batches of 8) once their next updates
   /// would all be smaller.
   double rotation_tolerance = 1e-6;
   /// 1/s, Rayleigh mass damping alpha (C = alpha M + beta K): drag on every vertex's velocity.

@@ -32,7 +32,7 @@ ParamTable<Params> make_param_table() {
                "rotation under fast rotation, slower.")
       .number(
           "rotation_tolerance", &Params::rotation_tolerance, Range::positive(),
-          "quaternion only, rad: elements stop iterating (in batches of 16) once all their next "
+          "quaternion only, rad: elements stop iterating (in batches of 8) once all their next "
           "updates would be smaller.")
       .number("rayleigh_mass", &Params::rayleigh_mass, Range::non_negative(),
               "1/s, Rayleigh mass damping alpha (C = alpha M + beta K). More: slower, less "
@@ -47,12 +47,12 @@ ParamTable<Params> make_param_table() {
               "\"cholmod\": exact, refactorises every step (slow); \"cg\": warm-started "
               "Jacobi-PCG to cg_tolerance (fastest); \"cholesky_pcg\": PCG preconditioned by a "
               "Cholesky factor reused across steps, refreshed after a slow solve.")
-      .choice("preconditioner", &Params::preconditioner,
-              {{"ssor", Params::Preconditioner::kSsor},
-               {"jacobi", Params::Preconditioner::kJacobi}},
-              "cg only. \"ssor\": symmetric block Gauss-Seidel, few iterations of about one "
-              "product each, on one thread; \"jacobi\": the inverse diagonal, more iterations, "
-              "parallel over vertices on large meshes.")
+      .choice(
+          "preconditioner", &Params::preconditioner,
+          {{"ssor", Params::Preconditioner::kSsor}, {"jacobi", Params::Preconditioner::kJacobi}},
+          "cg only. \"ssor\": symmetric block Gauss-Seidel, few iterations of about one "
+          "product each, on one thread; \"jacobi\": the inverse diagonal, more iterations, "
+          "parallel over vertices on large meshes.")
       .boolean("projected_warm_start", &Params::projected_warm_start,
                "iterative solvers: start from the best combination (energy norm) of the last "
                "four velocity changes (their products in one pass over the matrix a step) instead "

@@ -2,7 +2,6 @@
 // One step of the corotational FEM: rotations, element terms, gather into the fixed pattern,
 // exact constraints by elimination, one linear solve, update and reactions.
 #include "models/corotational_fem/corotational_fem_model.h"
-#include "models/corotational_fem/polar_decomposition.h"
 #include "models/phase_clock.h"
 
 #include <algorithm>
@@ -50,39 +49,6 @@ using Quad = double __attribute__((vector_size(4 * sizeof(double))));
 }
 
 }  // namespace
-
-void CorotationalFemModel::update_deformations(bool hold_rotations) {
-  const bool corotational =
-      params_.formulation == CorotationalFemParams::Formulation::kCorotational && !hold_rotations;
-  const bool svd = params_.rotation == CorotationalFemParams::Rotation::kSvd;
-  // Blocks of elements: F for the block, then its rotations (vectorised across elements).
-  constexpr int kBlock = 64;
-  const int num_blocks = (num_elements_ + kBlock - 1) / kBlock;
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
-  for (int block = 0; block < num_blocks; ++block) {
-    const int first = block * kBlock;
-    const int last = std::min(num_elements_, first + kBlock);
-    for (int t = first; t < last; ++t) {
-      deformations_[static_cast<std::size_t>(t)] = deformation_gradient(
-          elements_[static_cast<std::size_t>(t)], tet_positions(positions_, tets_, t));
-    }
-    if (!corotational) {
-      continue;  // R stays (I for linear FEM)
-    }
-    const auto begin = static_cast<std::size_t>(first);
-    const auto count = static_cast<std::size_t>(last - first);
-    if (svd) {
-      for (std::size_t e = begin; e < begin + count; ++e) {
-        rotations_[e] = rotation_by_svd(deformations_[e]);
-      }
-    } else {
-      extract_rotations(std::span(deformations_).subspan(begin, count),
-                        std::span(quaternions_).subspan(begin, count),
-                        std::span(rotations_).subspan(begin, count), params_.rotation_iterations,
-                        params_.rotation_tolerance);
-    }
-  }
-}
 
 void CorotationalFemModel::assemble(double mass_coefficient,
                                     double stiffness_coefficient,
@@ -182,10 +148,9 @@ StepStats CorotationalFemModel::step_timed(double dt,
   PhaseClock clock(times);
   const StepInput input = renumbering_.to_inner(outer_input);
   constraints_.bind(input.constraints);
-  update_deformations();
-  clock.lap(&PhaseTimes::rotations);
+  deform_and_compute_terms({.velocity_weight = params_.rayleigh_stiffness + dt, .force_scale = dt});
+  clock.lap(&PhaseTimes::elements);
 
-  compute_element_terms(params_.rayleigh_stiffness + dt, dt);
   assemble(1.0 + dt * params_.rayleigh_mass, dt * (params_.rayleigh_stiffness + dt), dt, input);
   eliminate_exact_constraints(dt);
   clock.lap(&PhaseTimes::assembly);

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: MIT
-// The corotational FEM's element terms (a step's second phase): per element, the right-hand side
-// part of its four nodes and the rotated, volume-scaled gradients w_a the gathers read. The
+// The corotational FEM's element kernels, a batch of elements side by side: F and R (a step's
+// first phase), then per element the right-hand side part of its four nodes and the rotated,
+// volume-scaled gradients w_a the gathers read. The
 // elastic forces are f_a = -V R sigma(sym(R^T F) - I) b_a (b_a the shape gradients, the rows of
 // Dm^-1 for a = 1..3 and b_0 = -(b_1 + b_2 + b_3)): with R the polar rotation of F, minus the
 // gradient of tet_element.h's element_energy (the dR terms vanish: R^T F is symmetric and
 // dR = R W with W skew); with R = I, linear FEM's f = -K (x - X).
 #include "models/corotational_fem/corotational_fem_model.h"
+#include "models/corotational_fem/polar_decomposition.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -64,6 +66,15 @@ template <bool kTransposeA>
   }
 }
 
+/// The first `count` lanes into 3x3 matrices.
+[[gnu::always_inline]] inline void store(const Lanes3x3& lanes, int count, Eigen::Matrix3d* out) {
+  for (int lane = 0; lane < count; ++lane) {
+    for (int k = 0; k < 9; ++k) {
+      out[lane].data()[k] = lanes[k][lane];
+    }
+  }
+}
+
 /// A lane's four node columns from its last three, h_1..h_3 (the columns of `h`): scale h_a,
 /// and node 0 minus their sum (the four sum to zero, as b_0 = -(b_1 + b_2 + b_3)).
 [[gnu::always_inline]] inline void store_nodes(const Lanes3x3& h,
@@ -83,88 +94,186 @@ template <bool kTransposeA>
 
 }  // namespace
 
-void CorotationalFemModel::compute_element_terms(double velocity_weight, double force_scale) {
+/// One batch's elements, kLanes of them from `first` (`count` used; the others hold zeros).
+struct CorotationalFemModel::ElementBatch {
+  int first = 0;
+  int count = 0;
+  alignas(64) Lanes3x3 rest_inverse;  ///< Dm^-1
+  alignas(64) double volume[kLanes];
+  alignas(64) Lanes3x3 deformation;  ///< F
+  alignas(64) Lanes3x3 rotation;     ///< R
+};
+
+template <class Body>
+void CorotationalFemModel::for_each_batch(const Body& body) {
+  const int num_batches = (num_elements_ + kLanes - 1) / kLanes;
+#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
+  for (int batch = 0; batch < num_batches; ++batch) {
+    ElementBatch lanes;
+    lanes.first = batch * kLanes;
+    lanes.count = std::min(kLanes, num_elements_ - lanes.first);
+    for (int lane = 0; lane < kLanes; ++lane) {
+      const TetRest* rest =
+          lane < lanes.count ? &elements_[static_cast<std::size_t>(lanes.first + lane)] : nullptr;
+      for (int k = 0; k < 9; ++k) {
+        lanes.rest_inverse[k][lane] = rest != nullptr ? rest->rest_inverse.data()[k] : 0.0;
+      }
+      lanes.volume[lane] = rest != nullptr ? rest->volume : 0.0;
+    }
+    body(lanes);
+  }
+}
+
+void CorotationalFemModel::deform(ElementBatch& lanes, bool hold_rotations) {
+  const int first = lanes.first;
+  const int count = lanes.count;
+  const auto begin = static_cast<std::size_t>(first);
+  // F = [x1 - x0, x2 - x0, x3 - x0] Dm^-1.
+  alignas(64) Lanes3x3 edges;
+  for (int lane = 0; lane < kLanes; ++lane) {
+    for (int c = 0; c < 3; ++c) {
+      for (int i = 0; i < 3; ++i) {
+        edges[i + 3 * c][lane] = lane < count ? positions_(i, tets_(c + 1, first + lane))
+                                                    - positions_(i, tets_(0, first + lane))
+                                              : 0.0;
+      }
+    }
+  }
+  multiply<false>(edges, lanes.rest_inverse, lanes.deformation);
+  if (params_.formulation != CorotationalFemParams::Formulation::kCorotational) {
+    for (int k = 0; k < 9; ++k) {
+      for (int lane = 0; lane < kLanes; ++lane) {
+        lanes.rotation[k][lane] = k % 4 == 0 ? 1.0 : 0.0;  // R = I: linear FEM
+      }
+    }
+  } else if (hold_rotations) {
+    load(rotations_.data() + begin, count, lanes.rotation);
+  } else if (params_.rotation == CorotationalFemParams::Rotation::kSvd) {
+    for (int lane = 0; lane < count; ++lane) {
+      Eigen::Matrix3d deformation;
+      for (int k = 0; k < 9; ++k) {
+        deformation.data()[k] = lanes.deformation[k][lane];
+      }
+      const Eigen::Matrix3d rotation = rotation_by_svd(deformation);
+      for (int k = 0; k < 9; ++k) {
+        lanes.rotation[k][lane] = rotation.data()[k];
+      }
+    }
+  } else {
+    // Warm-started from the last rotation of each element; unused lanes rest at q = 1.
+    double q[4][kLanes];
+    for (int lane = 0; lane < kLanes; ++lane) {
+      const Eigen::Quaterniond start = lane < count
+                                           ? quaternions_[begin + static_cast<std::size_t>(lane)]
+                                           : Eigen::Quaterniond::Identity();
+      q[0][lane] = start.w();
+      q[1][lane] = start.x();
+      q[2][lane] = start.y();
+      q[3][lane] = start.z();
+    }
+    extract_rotation_lanes(lanes.deformation, q, lanes.rotation, params_.rotation_iterations,
+                           params_.rotation_tolerance);
+    for (int lane = 0; lane < count; ++lane) {
+      quaternions_[begin + static_cast<std::size_t>(lane)] =
+          Eigen::Quaterniond(q[0][lane], q[1][lane], q[2][lane], q[3][lane]);
+    }
+  }
+}
+
+void CorotationalFemModel::make_terms(ElementBatch& lanes, const TermScales& scales) {
   const bool corotational =
       params_.formulation == CorotationalFemParams::Formulation::kCorotational;
   const double two_mu = 2.0 * lame_.mu;
   const double lambda = lame_.lambda;
-  const int num_batches = (num_elements_ + kLanes - 1) / kLanes;
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
-  for (int batch = 0; batch < num_batches; ++batch) {
-    const int first = batch * kLanes;
-    const int count = std::min(kLanes, num_elements_ - first);
-    const auto begin = static_cast<std::size_t>(first);
-    alignas(64) Lanes3x3 rotation;
-    alignas(64) Lanes3x3 deformation;
-    alignas(64) Lanes3x3 rest_inverse;
-    alignas(64) Lanes3x3 work;
-    alignas(64) Lanes3x3 product;
-    alignas(64) double volume[kLanes];
-    load(rotations_.data() + begin, count, rotation);
-    load(deformations_.data() + begin, count, deformation);
+  const double velocity_weight = scales.velocity_weight;
+  const int first = lanes.first;
+  const int count = lanes.count;
+  const auto begin = static_cast<std::size_t>(first);
+  const Lanes3x3& rotation = lanes.rotation;
+  const Lanes3x3& rest_inverse = lanes.rest_inverse;
+  Lanes3x3& deformation = lanes.deformation;
+  alignas(64) Lanes3x3 work;
+  alignas(64) Lanes3x3 product;
+  if (velocity_weight != 0.0) {
+    // F + (beta + dt) G, G = [v1 - v0, v2 - v0, v3 - v0] Dm^-1 the velocity gradient: folds
+    // -dt (beta + dt) K v into the force.
     for (int lane = 0; lane < kLanes; ++lane) {
-      const TetRest* rest =
-          lane < count ? &elements_[begin + static_cast<std::size_t>(lane)] : nullptr;
-      for (int k = 0; k < 9; ++k) {
-        rest_inverse[k][lane] = rest != nullptr ? rest->rest_inverse.data()[k] : 0.0;
-      }
-      volume[lane] = rest != nullptr ? rest->volume : 0.0;
-    }
-    if (velocity_weight != 0.0) {
-      // F + (beta + dt) G, G = [v1 - v0, v2 - v0, v3 - v0] Dm^-1 the velocity gradient: folds
-      // -dt (beta + dt) K v into the force.
-      for (int lane = 0; lane < kLanes; ++lane) {
-        for (int c = 0; c < 3; ++c) {
-          for (int i = 0; i < 3; ++i) {
-            work[i + 3 * c][lane] = lane < count ? velocities_(i, tets_(c + 1, first + lane))
-                                                       - velocities_(i, tets_(0, first + lane))
-                                                 : 0.0;
-          }
-        }
-      }
-      multiply<false>(work, rest_inverse, product);
-#pragma omp simd
-      for (int lane = 0; lane < kLanes; ++lane) {
-        for (int k = 0; k < 9; ++k) {
-          deformation[k][lane] += velocity_weight * product[k][lane];
-        }
-      }
-    }
-    // The stress sigma(sym(R^T F) - I) (into work), R sigma (product), and its nodal forces
-    // -V R sigma b_a, b_1..3 the rows of Dm^-1 (work).
-    multiply<true>(rotation, deformation, product);
-#pragma omp simd
-    for (int lane = 0; lane < kLanes; ++lane) {
-      const double trace =
-          (product[0][lane] - 1.0) + (product[4][lane] - 1.0) + (product[8][lane] - 1.0);
-      for (int j = 0; j < 3; ++j) {
+      for (int c = 0; c < 3; ++c) {
         for (int i = 0; i < 3; ++i) {
-          const double strain =
-              0.5 * (product[i + 3 * j][lane] + product[j + 3 * i][lane]) - (i == j ? 1.0 : 0.0);
-          work[i + 3 * j][lane] = two_mu * strain + (i == j ? lambda * trace : 0.0);
+          work[i + 3 * c][lane] = lane < count ? velocities_(i, tets_(c + 1, first + lane))
+                                                     - velocities_(i, tets_(0, first + lane))
+                                               : 0.0;
         }
       }
     }
-    multiply<false>(rotation, work, product);
+    multiply<false>(work, rest_inverse, product);
 #pragma omp simd
     for (int lane = 0; lane < kLanes; ++lane) {
       for (int k = 0; k < 9; ++k) {
-        product[k][lane] *= volume[lane];
+        deformation[k][lane] += velocity_weight * product[k][lane];
       }
-    }
-    multiply_transposed(product, rest_inverse, work);
-    for (int lane = 0; lane < count; ++lane) {
-      store_nodes(work, lane, -force_scale, element_rhs_[begin + static_cast<std::size_t>(lane)]);
-    }
-    if (!corotational) {
-      continue;  // w_a stays sqrt(V) b_a (reset())
-    }
-    load(scaled_gradients_.data() + begin, count, work);
-    multiply<false>(rotation, work, product);
-    for (int lane = 0; lane < count; ++lane) {
-      store_nodes(product, lane, 1.0, element_gradients_[begin + static_cast<std::size_t>(lane)]);
     }
   }
+  // The stress sigma(sym(R^T F) - I) (into work), R sigma (product), and its nodal forces
+  // -V R sigma b_a, b_1..3 the rows of Dm^-1 (work).
+  multiply<true>(rotation, deformation, product);
+#pragma omp simd
+  for (int lane = 0; lane < kLanes; ++lane) {
+    const double trace =
+        (product[0][lane] - 1.0) + (product[4][lane] - 1.0) + (product[8][lane] - 1.0);
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        const double strain =
+            0.5 * (product[i + 3 * j][lane] + product[j + 3 * i][lane]) - (i == j ? 1.0 : 0.0);
+        work[i + 3 * j][lane] = two_mu * strain + (i == j ? lambda * trace : 0.0);
+      }
+    }
+  }
+  multiply<false>(rotation, work, product);
+#pragma omp simd
+  for (int lane = 0; lane < kLanes; ++lane) {
+    for (int k = 0; k < 9; ++k) {
+      product[k][lane] *= lanes.volume[lane];
+    }
+  }
+  multiply_transposed(product, rest_inverse, work);
+  for (int lane = 0; lane < count; ++lane) {
+    store_nodes(work, lane, -scales.force_scale,
+                element_rhs_[begin + static_cast<std::size_t>(lane)]);
+  }
+  if (!corotational) {
+    return;  // w_a stays sqrt(V) b_a (reset())
+  }
+  load(scaled_gradients_.data() + begin, count, work);
+  multiply<false>(rotation, work, product);
+  for (int lane = 0; lane < count; ++lane) {
+    store_nodes(product, lane, 1.0, element_gradients_[begin + static_cast<std::size_t>(lane)]);
+  }
+}
+
+void CorotationalFemModel::update_deformations(bool hold_rotations) {
+  for_each_batch([&](ElementBatch& lanes) {
+    deform(lanes, hold_rotations);
+    const auto begin = static_cast<std::size_t>(lanes.first);
+    store(lanes.deformation, lanes.count, deformations_.data() + begin);
+    store(lanes.rotation, lanes.count, rotations_.data() + begin);
+  });
+}
+
+void CorotationalFemModel::compute_element_terms(const TermScales& scales) {
+  for_each_batch([&](ElementBatch& lanes) {
+    const auto begin = static_cast<std::size_t>(lanes.first);
+    load(deformations_.data() + begin, lanes.count, lanes.deformation);
+    load(rotations_.data() + begin, lanes.count, lanes.rotation);
+    make_terms(lanes, scales);
+  });
+}
+
+void CorotationalFemModel::deform_and_compute_terms(const TermScales& scales) {
+  for_each_batch([&](ElementBatch& lanes) {
+    deform(lanes, /*hold_rotations=*/false);
+    make_terms(lanes, scales);
+  });
 }
 
 }  // namespace softbench::corotational_fem

@@ -67,12 +67,25 @@ inline int extract_rotation(const Eigen::Matrix3d& deformation,
   return iteration;
 }
 
-/// extract_rotation() for many elements, vectorised across elements: the same iteration on
-/// batches of 16 elements in structure-of-arrays form, so each instruction advances several
-/// independent elements (one element's iteration is a chain of dependent divisions and square
-/// roots). A batch stops when every element's next update is below `tolerance`; until then an
-/// element that has converged still takes its (smaller than tolerance) updates.
-/// `matrices[k]` receives R(rotations[k]). All spans have one entry per element.
+/// Elements side by side in extract_rotation_lanes(), one per vector lane (two AVX2 vectors of
+/// doubles, four SSE2 ones).
+inline constexpr int kRotationLanes = 8;
+
+/// extract_rotation() for kRotationLanes elements at once, in structure-of-arrays form: `f` and
+/// `r` hold column-major 3x3 entries (f[i + 3 j][lane] is F(i, j)), `q` unit quaternions
+/// (w, x, y, z), the warm starts, improved in place; `r` receives R(q). Each instruction
+/// advances every lane (one element's iteration is a chain of dependent divisions and square
+/// roots). The lanes stop together, when every lane's next update is below `tolerance`; until
+/// then a lane that has converged still takes its (smaller than tolerance) updates. Unused
+/// lanes are harmless with F = 0 and q = 1.
+void extract_rotation_lanes(const double (&f)[9][kRotationLanes],
+                            double (&q)[4][kRotationLanes],
+                            double (&r)[9][kRotationLanes],
+                            int max_iterations,
+                            double tolerance);
+
+/// extract_rotation_lanes() over many elements, kRotationLanes at a time. `matrices[k]`
+/// receives R(rotations[k]). All spans have one entry per element.
 void extract_rotations(std::span<const Eigen::Matrix3d> deformations,
                        std::span<Eigen::Quaterniond> rotations,
                        std::span<Eigen::Matrix3d> matrices,

@@ -148,7 +148,7 @@ TEST(ExtractRotation, TracksASteadilyRotatingElementWithTwoIterationsPerStep) {
 }
 
 TEST(ExtractRotations, MatchesTheIterationOneElementAtATime) {
-  // 37 elements: two full batches of 16 and a partial one. A tolerance below reach keeps every
+  // 37 elements: four full batches of kRotationLanes (8) and a partial one. A tolerance below reach keeps every
   // element iterating, so the batched and the scalar iteration take the same steps.
   std::mt19937 random(8);
   std::vector<Eigen::Matrix3d> deformations;
