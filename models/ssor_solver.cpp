@@ -44,7 +44,8 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
       direction_(pattern.size()),
       product_(pattern.size()),
       sweep_(pattern.size()),
-      carry_(pattern.size()) {
+      carry_(pattern.size()),
+      transformed_(pattern.size()) {
 }
 
 bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
@@ -141,6 +142,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
                                                const Eigen::VectorXd& b,
                                                Eigen::VectorXd& x,
                                                const double* offset) {
+  const Eigen::VectorXd* start_product = take_start_product();
   SolveReport report;
   const double rhs_norm = b.norm();
   if (rhs_norm == 0.0) {
@@ -155,11 +157,17 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   }
   EnergyErrorEstimate estimate(
       reference_energy(a, x, offset, energy_floor(), direction_, product_));
+  // r0 = b - A x0, with the caller's product when it has one.
+  if (start_product == nullptr) {
+    a.multiply(x, product_);
+  }
+  const double* ax = start_product != nullptr ? start_product->data() : product_.data();
 
   const double* d = diagonal_.data();
   const double* inverse = inverse_.data();
   const double* bs = b.data();
   double* xs = x.data();
+  double* x_hat = transformed_.data();
   double* r = residual_.data();
   double* z = preconditioned_.data();
   double* p = direction_.data();
@@ -168,37 +176,27 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   double* g = carry_.data();
   const int n = num_vertices_;
 
-  // The transformed unknown x^ = (D + U) x0 (into q), and r^ = (D + L)^-1 (b - A x0), which by
-  // A = (D + L) + U is (D + L)^-1 (b - U x0) - x0.
-  for (int c = 0; c < n; ++c) {
-    double upper[3];
-    neighbour_sum(a, c, /*lower=*/false, xs, upper);
-    double own[3];
-    block_multiply(d + 9 * c, xs + 3 * c, own);
-    for (int k = 0; k < 3; ++k) {
-      q[3 * c + k] = own[k] + upper[k];
-      g[3 * c + k] = bs[3 * c + k] - upper[k];
-    }
-  }
-  // (D + L) y = g, y into g (g_c is consumed at c); and the scale of round-off for the
-  // transformed residual r^ = (D + L)^-1 r: |D^-1 b|, the transformed right-hand side's size up
-  // to the coupling of the sweep (a floor at 1e-14 of it needs no more; (D + L)^-1 b itself
-  // cost another sweep's products, 2% of corotational_fem's step on the liver).
+  // CG on the correction x - x0 from 0: its transform x^ = (D + U) (x - x0) starts at 0, and
+  // r^ = (D + L)^-1 r0 (a forward sweep, into g). And the scale of round-off for the
+  // transformed residual: |D^-1 b|, the transformed right-hand side's size up to the coupling of
+  // the sweep (a floor at 1e-14 of it needs no more).
   double transformed_rhs_squared = 0.0;
   for (int c = 0; c < n; ++c) {
     double lower[3];
     neighbour_sum(a, c, /*lower=*/true, g, lower);
-    const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1], g[3 * c + 2] - lower[2]};
+    const double rest[3] = {bs[3 * c] - ax[3 * c] - lower[0],
+                            bs[3 * c + 1] - ax[3 * c + 1] - lower[1],
+                            bs[3 * c + 2] - ax[3 * c + 2] - lower[2]};
     block_multiply(inverse + 9 * c, rest, g + 3 * c);
     double scaled[3];
     block_multiply(inverse + 9 * c, bs + 3 * c, scaled);
     transformed_rhs_squared += dot3(scaled, scaled);
   }
+  transformed_.setZero();
   const auto apply_d = [d](int c, const double* in, double* out) {
     block_multiply(d + 9 * c, in, out);
   };
-  const EisenstatStart start = eisenstat_start(n, g, xs, r, z, p, apply_d);
-  x = product_;  // x holds x^ while iterating
+  const EisenstatStart start = eisenstat_start(n, g, x_hat, r, z, p, apply_d);
   const double roundoff = kRoundoff * std::sqrt(transformed_rhs_squared);
 
   report.converged = start.residual_squared == 0.0;
@@ -238,18 +236,20 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     }
     return curvature;
   };
-  eisenstat_iterations(n, xs, r, z, p, q, start.rz, roundoff, options_.tolerance,
+  eisenstat_iterations(n, x_hat, r, z, p, q, start.rz, roundoff, options_.tolerance,
                        options_.max_iterations, estimate, report, sweeps, apply_d);
 
-  // x = (D + U)^-1 x^ ...
+  // x = x0 + (D + U)^-1 x^ ...
   for (int c = n - 1; c >= 0; --c) {
     double upper[3];
     neighbour_sum(a, c, /*lower=*/false, t, upper);
-    const double rest[3] = {xs[3 * c] - upper[0], xs[3 * c + 1] - upper[1],
-                            xs[3 * c + 2] - upper[2]};
+    const double rest[3] = {x_hat[3 * c] - upper[0], x_hat[3 * c + 1] - upper[1],
+                            x_hat[3 * c + 2] - upper[2]};
     block_multiply(inverse + 9 * c, rest, t + 3 * c);
+    for (int k = 0; k < 3; ++k) {
+      xs[3 * c + k] += t[3 * c + k];
+    }
   }
-  x = sweep_;
   // ... the system's residual b - A x = (D + L) r^ (into q) ...
   Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
   for (int c = 0; c < n; ++c) {
@@ -289,7 +289,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
 
 std::size_t SsorConjugateGradientSolver::memory_bytes() const {
   return (diagonal_.capacity() + inverse_.capacity() + row_sums_.capacity()) * sizeof(double)
-         + 6 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
+         + 7 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
 }
 
 }  // namespace softbench

@@ -88,6 +88,7 @@ class PcgIterations {
                   Eigen::VectorXd& x,
                   const double* offset,
                   double energy_floor,
+                  const Eigen::VectorXd* start_product,
                   double tolerance,
                   int max_iterations,
                   const Preconditioner& precondition) {
@@ -114,12 +115,15 @@ class PcgIterations {
     EnergyErrorEstimate estimate(
         reference_energy(a, x, offset, energy_floor, direction_, product_));
 
-    a.multiply(x, product_);
+    if (start_product == nullptr) {
+      a.multiply(x, product_);
+    }
+    const double* ax = start_product != nullptr ? start_product->data() : q;
     double residual_norm =
-        std::sqrt(vectors_.for_each_chunk([r, bs, q](Eigen::Index begin, Eigen::Index end) {
+        std::sqrt(vectors_.for_each_chunk([r, bs, ax](Eigen::Index begin, Eigen::Index end) {
           double sum = 0.0;
           for (Eigen::Index i = begin; i < end; ++i) {
-            r[i] = bs[i] - q[i];
+            r[i] = bs[i] - ax[i];
             sum += r[i] * r[i];
           }
           return sum;
@@ -251,8 +255,8 @@ class ConjugateGradientSolver final : public SystemSolver {
         inverse_diagonal_(3 * v + k) = entry != 0.0 ? 1.0 / entry : 1.0;
       }
     }
-    return iterations_.run(a, b, x, offset, energy_floor(), options_.tolerance,
-                           options_.max_iterations,
+    return iterations_.run(a, b, x, offset, energy_floor(), take_start_product(),
+                           options_.tolerance, options_.max_iterations,
                            [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
                              z = inverse_diagonal_.cwiseProduct(r);
                            });
@@ -283,6 +287,7 @@ class CholeskyPcgSolver final : public SystemSolver {
                     const Eigen::VectorXd& b,
                     Eigen::VectorXd& x,
                     const double* offset) override {
+    const Eigen::VectorXd* start_product = take_start_product();
     int factorizations = 0;
     if (stale_) {
       if (!refactorize(a)) {
@@ -293,8 +298,8 @@ class CholeskyPcgSolver final : public SystemSolver {
     const auto precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
       factor_.solve(r, z);
     };
-    SolveReport report = iterations_.run(a, b, x, offset, energy_floor(), options_.tolerance,
-                                         options_.max_iterations, precondition);
+    SolveReport report = iterations_.run(a, b, x, offset, energy_floor(), start_product,
+                                         options_.tolerance, options_.max_iterations, precondition);
     if (!report.converged && factorizations == 0) {
       // The old factor no longer preconditions this matrix: refactorise and continue from x.
       if (!refactorize(a)) {
@@ -302,7 +307,7 @@ class CholeskyPcgSolver final : public SystemSolver {
       }
       ++factorizations;
       const int spent = report.iterations;
-      report = iterations_.run(a, b, x, offset, energy_floor(), options_.tolerance,
+      report = iterations_.run(a, b, x, offset, energy_floor(), nullptr, options_.tolerance,
                                options_.max_iterations, precondition);
       report.iterations += spent;
     }
@@ -350,9 +355,11 @@ class ProjectedWarmStartSolver final : public SystemSolver {
                     const Eigen::VectorXd& b,
                     Eigen::VectorXd& x,
                     const double* offset) override {
-    warm_start_.improve(b, x,
-                        [&a](std::span<const Eigen::VectorXd* const> in,
-                             std::span<Eigen::VectorXd* const> out) { a.multiply_many(in, out); });
+    inner_->set_start_product(warm_start_.improve(
+        b, x,
+        [&a](std::span<const Eigen::VectorXd* const> in, std::span<Eigen::VectorXd* const> out) {
+          a.multiply_many(in, out);
+        }));
     inner_->set_energy_floor(energy_floor());
     const SolveReport report = inner_->solve(a, b, x, offset);
     if (report.succeeded) {

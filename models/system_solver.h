@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <memory>
+#include <utility>
 
 namespace softbench {
 
@@ -156,13 +157,20 @@ class SystemSolver {
   /// The least energy the iterative stopping rule measures the error against, whatever the
   /// offset (resting_energy(); 0: none, the default).
   void set_energy_floor(double energy) { energy_floor_ = energy; }
+  /// A x0 for the next solve's start x0 (the x it is given), made by the caller: that solve
+  /// only, and it makes no product for it. The warm start has it from the products it makes
+  /// anyway (GalerkinWarmStart::improve()). Null: not known.
+  void set_start_product(const Eigen::VectorXd* product) { start_product_ = product; }
 
  protected:
   SystemSolver() = default;
   double energy_floor() const { return energy_floor_; }
+  /// The next solve's start product (set_start_product()), cleared for the ones after it.
+  const Eigen::VectorXd* take_start_product() { return std::exchange(start_product_, nullptr); }
 
  private:
   double energy_floor_ = 0.0;
+  const Eigen::VectorXd* start_product_ = nullptr;
 };
 
 /// The solver `options` names; CHOLMOD's symbolic analysis of `pattern` is done here, once.

@@ -34,11 +34,16 @@ class GalerkinWarmStart {
   /// solutions remembered before the last one (the caller's guess is usually the last: its
   /// values at prescribed unknowns are right, the stored one's are last step's).
   /// `multiply(in, out)` sets *out[j] = A *in[j] for every j (spans of equal length, at most
-  /// kBasis): all the products at once, so the caller can make them in one pass.
+  /// kBasis): all the products at once, so the caller can make them in one pass. Returns A x
+  /// for the x it leaves, the same combination of the products (valid until the next call), so
+  /// the solve need not make it; null when fewer than two solutions are remembered (no
+  /// products are made then).
   template <class MultiplyMany>
-  void improve(const Eigen::VectorXd& b, Eigen::VectorXd& x, const MultiplyMany& multiply) {
+  const Eigen::VectorXd* improve(const Eigen::VectorXd& b,
+                                 Eigen::VectorXd& x,
+                                 const MultiplyMany& multiply) {
     if (count_ <= 1) {
-      return;
+      return nullptr;
     }
     const int count = count_;  // x, then the remembered ones from the second newest
     std::array<const Eigen::VectorXd*, kBasis> basis{};
@@ -62,13 +67,16 @@ class GalerkinWarmStart {
     }
     const Coefficients c = coefficients(gram, projected);
     if (c.isZero()) {
-      return;  // keep the caller's guess
+      return &products_[0];  // keep the caller's guess
     }
     guess_ = c(0) * x;
+    guess_product_ = c(0) * products_[0];
     for (int j = 1; j < count; ++j) {
       guess_ += c(j) * remembered(j);
+      guess_product_ += c(j) * products_[static_cast<std::size_t>(j)];
     }
     x = guess_;
+    return &guess_product_;
   }
 
   /// Keeps `solution` as the newest (the oldest is dropped).
@@ -87,6 +95,7 @@ class GalerkinWarmStart {
   std::array<Eigen::VectorXd, kBasis> history_;
   std::array<Eigen::VectorXd, kBasis> products_;  ///< A times each basis vector
   Eigen::VectorXd guess_;
+  Eigen::VectorXd guess_product_;  ///< A guess_
   int head_ = kBasis - 1;
   int count_ = 0;
 };
