@@ -77,7 +77,6 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
   Incidences incidences = vertex_corners(tets_, num_vertices_);
   vertex_offsets_ = std::move(incidences.offsets);
   vertex_incidences_ = std::move(incidences.items);
-  vertex_incidences_.resize(vertex_incidences_.size() + kIncidencePadding, 0);
 
   // Edge incidences, in element order; the edge's first (smaller) vertex's local index first.
   const Eigen::Matrix2Xi edges = unique_edges(tets_);
@@ -98,11 +97,10 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
   }
   Incidences by_edge = group_by_owner(element_edges, static_cast<int>(edges.cols()));
   edge_offsets_ = std::move(by_edge.offsets);
-  edge_incidences_.reserve(by_edge.items.size() + kIncidencePadding);
+  edge_incidences_.reserve(by_edge.items.size());
   for (const int item : by_edge.items) {
     edge_incidences_.push_back(element_codes[static_cast<std::size_t>(item)]);
   }
-  edge_incidences_.resize(edge_incidences_.size() + kIncidencePadding, 0);
 
   pattern_ = std::make_unique<BlockPattern>(num_vertices_, edges);
   solver_ = make_system_solver(solver_options(params_), *pattern_);

@@ -153,9 +153,7 @@ class CorotationalFemModel final : public SoftBody {
   /// sqrt(V) [b1 b2 b3] per element: w_a = R times these (w_0 = -(w_1 + w_2 + w_3)).
   std::vector<Eigen::Matrix3d> scaled_gradients_;
   // Incidences (CSR) for the gathers: per vertex, element * 4 + local index; per edge (i < j),
-  // element * 16 + 4 * (local index of i) + (local index of j). Each list is followed by
-  // kIncidencePadding zeros, so that the gathers can look that far ahead without a bound test.
-  static constexpr int kIncidencePadding = 16;
+  // element * 16 + 4 * (local index of i) + (local index of j).
   std::vector<int> vertex_offsets_;
   std::vector<int> vertex_incidences_;
   std::vector<int> edge_offsets_;

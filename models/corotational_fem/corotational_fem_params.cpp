@@ -30,10 +30,9 @@ ParamTable<Params> make_param_table() {
       .integer("rotation_iterations", &Params::rotation_iterations, 1, 1000,
                "quaternion only: most iterations per element and step. More: closer to the exact "
                "rotation under fast rotation, slower.")
-      .number(
-          "rotation_tolerance", &Params::rotation_tolerance, Range::positive(),
-          "quaternion only, rad: elements stop iterating (in batches of 8) once all their next "
-          "updates would be smaller.")
+      .number("rotation_tolerance", &Params::rotation_tolerance, Range::positive(),
+              "quaternion only, rad: elements stop iterating (in batches of 8) once all their next "
+              "updates would be smaller.")
       .number("rayleigh_mass", &Params::rayleigh_mass, Range::non_negative(),
               "1/s, Rayleigh mass damping alpha (C = alpha M + beta K). More: slower, less "
               "oscillating motion.")

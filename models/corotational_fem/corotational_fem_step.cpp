@@ -13,21 +13,12 @@ namespace {
 
 constexpr int kParallelVertices = BlockPattern::kParallelVertices;
 
-/// The gathers read each incidence's element terms (a 24-byte column of a 96-byte matrix, in
-/// element order, so in no order the vertex's): on the liver they wait on those loads more than
-/// they compute. The column kIncidencePadding incidences ahead is asked for early (the incidence
-/// lists are padded by as many entries, CorotationalFemModel::kIncidencePadding): its own cache
-/// line, not the matrix's first (columns 2 and 3 lie past it). Measured on the liver: 5-7% of the
-/// step for the matrix's first line, alternated with the code without it.
-void prefetch_column(const std::vector<Matrix34d>& terms, int element, int column) {
-  __builtin_prefetch(terms[static_cast<std::size_t>(element)].col(column).data());
-}
-
 /// Four doubles in one vector (an AVX register at x86-64-v3, two SSE2 ones at the baseline).
 /// The gathers sum 3x3 outer products w_a w_b^T column by column: a column is w_a times one
 /// entry of w_b, three multiply-adds of a vector an incidence where Eigen's 3x3 product made
 /// nine scalar ones and a separate dot product (now the trace). Measured on the liver: 6-10%
-/// less time a step.
+/// less time a step. (Prefetching the columns some incidences ahead, which had saved 5-7% of
+/// the scalar gathers before the vertices were renumbered, then cost 7%: not kept.)
 using Quad = double __attribute__((vector_size(4 * sizeof(double))));
 
 /// Column `a` of an element's terms into lanes 0-2 of `column`, lane 3 whatever follows it (the
@@ -66,9 +57,6 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     for (int k = vertex_offsets_[static_cast<std::size_t>(v)];
          k < vertex_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
       const int incidence = vertex_incidences_[static_cast<std::size_t>(k)];
-      const int ahead = vertex_incidences_[static_cast<std::size_t>(k + kIncidencePadding)];
-      prefetch_column(element_gradients_, ahead / 4, ahead % 4);
-      prefetch_column(element_rhs_, ahead / 4, ahead % 4);
       const auto e = static_cast<std::size_t>(incidence / 4);
       const int a = incidence % 4;
       const Matrix34d& w = element_gradients_[e];
@@ -110,9 +98,6 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     for (int k = edge_offsets_[static_cast<std::size_t>(edge)];
          k < edge_offsets_[static_cast<std::size_t>(edge) + 1]; ++k) {
       const int incidence = edge_incidences_[static_cast<std::size_t>(k)];
-      const int ahead = edge_incidences_[static_cast<std::size_t>(k + kIncidencePadding)];
-      prefetch_column(element_gradients_, ahead / 16, (ahead / 4) % 4);
-      prefetch_column(element_gradients_, ahead / 16, ahead % 4);
       const Matrix34d& w = element_gradients_[static_cast<std::size_t>(incidence / 16)];
       Quad wa;
       load_column(w, (incidence / 4) % 4, wa);
