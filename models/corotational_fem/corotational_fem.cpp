@@ -66,11 +66,18 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
       constraints_(inner.mesh.num_vertices()) {
   const auto num_elements = static_cast<std::size_t>(num_elements_);
   elements_.reserve(num_elements);
-  scaled_gradients_.reserve(num_elements);
+  rest_batches_.resize((num_elements + kElementLanes - 1) / kElementLanes, RestBatch{});
   for (int t = 0; t < num_elements_; ++t) {
     const TetRest rest = tet_rest(tet_positions(rest_positions_, tets_, t));
     elements_.push_back(rest);
-    scaled_gradients_.push_back(std::sqrt(rest.volume) * rest.rest_inverse.transpose());
+    const Eigen::Matrix3d scaled_gradients = std::sqrt(rest.volume) * rest.rest_inverse.transpose();
+    RestBatch& batch = rest_batches_[static_cast<std::size_t>(t / kElementLanes)];
+    const int lane = t % kElementLanes;
+    for (int k = 0; k < 9; ++k) {
+      batch.rest_inverse[k][lane] = rest.rest_inverse.data()[k];
+      batch.scaled_gradients[k][lane] = scaled_gradients.data()[k];
+    }
+    batch.volume[lane] = rest.volume;
   }
 
   // Vertex incidences, in element order.
@@ -134,7 +141,10 @@ void CorotationalFemModel::reset() {
   for (int t = 0; t < num_elements_; ++t) {
     // At rest (and always, for linear FEM): w_a = sqrt(V) b_a.
     Matrix34d& w = element_gradients_[static_cast<std::size_t>(t)];
-    w.rightCols<3>() = scaled_gradients_[static_cast<std::size_t>(t)];
+    const RestBatch& batch = rest_batches_[static_cast<std::size_t>(t / kElementLanes)];
+    for (int k = 0; k < 9; ++k) {
+      w.rightCols<3>().data()[k] = batch.scaled_gradients[k][t % kElementLanes];
+    }
     w.col(0) = -w.rightCols<3>().rowwise().sum();
   }
 }
@@ -172,7 +182,7 @@ double CorotationalFemModel::elastic_energy() const {
 
 std::size_t CorotationalFemModel::memory_bytes() const {
   return bytes_of(tets_) + bytes_of(masses_) + bytes_of(rest_positions_)
-         + bytes_of_elements(elements_) + bytes_of_elements(scaled_gradients_)
+         + bytes_of_elements(elements_) + bytes_of_elements(rest_batches_)
          + bytes_of_elements(vertex_offsets_) + bytes_of_elements(vertex_incidences_)
          + bytes_of_elements(edge_offsets_) + bytes_of_elements(edge_incidences_)
          + renumbering_.memory_bytes() + bytes_of(positions_) + bytes_of(velocities_)

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The corotational FEM's element kernels, a batch of elements side by side: F and R (a step's
 // first phase), then per element the right-hand side part of its four nodes and the rotated,
-// volume-scaled gradients w_a the gathers read. The
-// elastic forces are f_a = -V R sigma(sym(R^T F) - I) b_a (b_a the shape gradients, the rows of
-// Dm^-1 for a = 1..3 and b_0 = -(b_1 + b_2 + b_3)): with R the polar rotation of F, minus the
-// gradient of tet_element.h's element_energy (the dR terms vanish: R^T F is symmetric and
-// dR = R W with W skew); with R = I, linear FEM's f = -K (x - X).
+// volume-scaled gradients w_a the gathers read. The elastic forces are
+// f_a = -V R sigma(sym(R^T F) - I) b_a (b_a the shape gradients, the rows of Dm^-1 for a = 1..3
+// and b_0 = -(b_1 + b_2 + b_3)): with R the polar rotation of F, minus the gradient of
+// tet_element.h's element_energy (the dR terms vanish: R^T F is symmetric and dR = R W with W
+// skew); with R = I, linear FEM's f = -K (x - X).
 #include "models/corotational_fem/corotational_fem_model.h"
 #include "models/corotational_fem/polar_decomposition.h"
 
@@ -98,28 +98,20 @@ template <bool kTransposeA>
 struct CorotationalFemModel::ElementBatch {
   int first = 0;
   int count = 0;
-  alignas(64) Lanes3x3 rest_inverse;  ///< Dm^-1
-  alignas(64) double volume[kLanes];
+  const RestBatch* rest = nullptr;
   alignas(64) Lanes3x3 deformation;  ///< F
   alignas(64) Lanes3x3 rotation;     ///< R
 };
 
 template <class Body>
 void CorotationalFemModel::for_each_batch(const Body& body) {
-  const int num_batches = (num_elements_ + kLanes - 1) / kLanes;
+  const auto num_batches = static_cast<int>(rest_batches_.size());
 #pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
   for (int batch = 0; batch < num_batches; ++batch) {
     ElementBatch lanes;
     lanes.first = batch * kLanes;
     lanes.count = std::min(kLanes, num_elements_ - lanes.first);
-    for (int lane = 0; lane < kLanes; ++lane) {
-      const TetRest* rest =
-          lane < lanes.count ? &elements_[static_cast<std::size_t>(lanes.first + lane)] : nullptr;
-      for (int k = 0; k < 9; ++k) {
-        lanes.rest_inverse[k][lane] = rest != nullptr ? rest->rest_inverse.data()[k] : 0.0;
-      }
-      lanes.volume[lane] = rest != nullptr ? rest->volume : 0.0;
-    }
+    lanes.rest = &rest_batches_[static_cast<std::size_t>(batch)];
     body(lanes);
   }
 }
@@ -139,7 +131,7 @@ void CorotationalFemModel::deform(ElementBatch& lanes, bool hold_rotations) {
       }
     }
   }
-  multiply<false>(edges, lanes.rest_inverse, lanes.deformation);
+  multiply<false>(edges, lanes.rest->rest_inverse, lanes.deformation);
   if (params_.formulation != CorotationalFemParams::Formulation::kCorotational) {
     for (int k = 0; k < 9; ++k) {
       for (int lane = 0; lane < kLanes; ++lane) {
@@ -190,7 +182,7 @@ void CorotationalFemModel::make_terms(ElementBatch& lanes, const TermScales& sca
   const int count = lanes.count;
   const auto begin = static_cast<std::size_t>(first);
   const Lanes3x3& rotation = lanes.rotation;
-  const Lanes3x3& rest_inverse = lanes.rest_inverse;
+  const Lanes3x3& rest_inverse = lanes.rest->rest_inverse;
   Lanes3x3& deformation = lanes.deformation;
   alignas(64) Lanes3x3 work;
   alignas(64) Lanes3x3 product;
@@ -233,7 +225,7 @@ void CorotationalFemModel::make_terms(ElementBatch& lanes, const TermScales& sca
 #pragma omp simd
   for (int lane = 0; lane < kLanes; ++lane) {
     for (int k = 0; k < 9; ++k) {
-      product[k][lane] *= lanes.volume[lane];
+      product[k][lane] *= lanes.rest->volume[lane];
     }
   }
   multiply_transposed(product, rest_inverse, work);
@@ -244,8 +236,7 @@ void CorotationalFemModel::make_terms(ElementBatch& lanes, const TermScales& sca
   if (!corotational) {
     return;  // w_a stays sqrt(V) b_a (reset())
   }
-  load(scaled_gradients_.data() + begin, count, work);
-  multiply<false>(rotation, work, product);
+  multiply<false>(rotation, lanes.rest->scaled_gradients, product);
   for (int lane = 0; lane < count; ++lane) {
     store_nodes(product, lane, 1.0, element_gradients_[begin + static_cast<std::size_t>(lane)]);
   }
