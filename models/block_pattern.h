@@ -91,6 +91,12 @@ class BlockPattern {
                 Eigen::VectorXd& y,
                 std::span<double> chunk_dots = {}) const;
 
+  /// x^T A x (x of size()), from the diagonal blocks and the blocks above them only: A is
+  /// symmetric, so half the matrix is read (a product and a dot read all of it). `chunk_sums`
+  /// (num_chunks() entries) is scratch for the per-chunk parts, summed in order: deterministic
+  /// and parallel as multiply().
+  double quadratic_form(const Eigen::VectorXd& x, std::span<double> chunk_sums) const;
+
   /// y[k] = A x[k] for every k (at most kManyVectors): multiply() for several vectors in one
   /// pass over the matrix, each value read once and applied to all of them (the liver's matrix,
   /// 1.3 MB, does not fit in L2). Deterministic and parallel as multiply() (its sums in another

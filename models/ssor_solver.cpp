@@ -45,7 +45,8 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
       product_(pattern.size()),
       sweep_(pattern.size()),
       carry_(pattern.size()),
-      transformed_(pattern.size()) {
+      transformed_(pattern.size()),
+      chunk_sums_(static_cast<std::size_t>(pattern.num_chunks())) {
 }
 
 bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
@@ -156,7 +157,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     return report;
   }
   EnergyErrorEstimate estimate(
-      reference_energy(a, x, offset, energy_floor(), direction_, product_));
+      reference_energy(a, x, offset, energy_floor(), direction_, chunk_sums_));
   // r0 = b - A x0, with the caller's product when it has one.
   if (start_product == nullptr) {
     a.multiply(x, product_);
@@ -288,7 +289,9 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
 }
 
 std::size_t SsorConjugateGradientSolver::memory_bytes() const {
-  return (diagonal_.capacity() + inverse_.capacity() + row_sums_.capacity()) * sizeof(double)
+  return (diagonal_.capacity() + inverse_.capacity() + row_sums_.capacity()
+          + chunk_sums_.capacity())
+             * sizeof(double)
          + 7 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
 }
 

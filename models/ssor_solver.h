@@ -64,9 +64,10 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   Eigen::VectorXd preconditioned_;
   Eigen::VectorXd direction_;
   Eigen::VectorXd product_;
-  Eigen::VectorXd sweep_;        ///< t = (D + U)^-1 p
-  Eigen::VectorXd carry_;        ///< p - D t, then the forward sweep's y
-  Eigen::VectorXd transformed_;  ///< x^ = (D + U) (x - x0)
+  Eigen::VectorXd sweep_;           ///< t = (D + U)^-1 p
+  Eigen::VectorXd carry_;           ///< p - D t, then the forward sweep's y
+  Eigen::VectorXd transformed_;     ///< x^ = (D + U) (x - x0)
+  std::vector<double> chunk_sums_;  ///< the reference energy's per-chunk parts
 };
 
 }  // namespace softbench

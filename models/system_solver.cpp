@@ -113,7 +113,7 @@ class PcgIterations {
       return report;
     }
     EnergyErrorEstimate estimate(
-        reference_energy(a, x, offset, energy_floor, direction_, product_));
+        reference_energy(a, x, offset, energy_floor, direction_, vectors_.chunk_sums()));
 
     if (start_product == nullptr) {
       a.multiply(x, product_);
@@ -404,12 +404,11 @@ double reference_energy(const BlockPattern& a,
                         const double* offset,
                         double floor,
                         Eigen::VectorXd& work,
-                        Eigen::VectorXd& product) {
+                        std::span<double> chunk_sums) {
   double energy = 0.0;
   if (offset != nullptr) {
     work = Eigen::Map<const Eigen::VectorXd>(offset, x.size()) + x;
-    a.multiply(work, product);
-    energy = std::max(0.0, work.dot(product));
+    energy = std::max(0.0, a.quadratic_form(work, chunk_sums));
   }
   return std::max(energy, floor);
 }

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstddef>
 #include <memory>
+#include <span>
 #include <utility>
 
 namespace softbench {
@@ -116,13 +117,14 @@ class EnergyErrorEstimate {
 };
 
 /// The stopping rule's reference energy: |offset + x|^2_A (0 without an offset), and never less
-/// than `floor`. One product; `work` and `product` are size()-long scratch vectors.
+/// than `floor`. A quadratic form (half the matrix read); `work` is a size()-long scratch
+/// vector, `chunk_sums` num_chunks() long (BlockPattern::quadratic_form()).
 double reference_energy(const BlockPattern& a,
                         const Eigen::VectorXd& x,
                         const double* offset,
                         double floor,
                         Eigen::VectorXd& work,
-                        Eigen::VectorXd& product);
+                        std::span<double> chunk_sums);
 
 /// What one solve of the implicit system cost and how well it did.
 struct SolveReport {

@@ -109,6 +109,27 @@ TEST(BlockPattern, MultiplyMatchesTheSparseProductAndItsDot) {
   EXPECT_NEAR(dot, x.dot(expected), test::kRoundoff * std::abs(x.dot(expected)));
 }
 
+TEST(BlockPattern, QuadraticFormFromTheUpperHalfIsTheDotOfTheProduct) {
+  // Several chunks (and the parallel path when threads are available), and the star's centre
+  // whose blocks all lie above it (vertex 0) against leaves with none above.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(14, 12, 12));
+  constexpr int kLeaves = 150;
+  Eigen::Matrix2Xi star(2, kLeaves);
+  for (int leaf = 0; leaf < kLeaves; ++leaf) {
+    star.col(leaf) << 0, leaf + 1;
+  }
+  for (const BlockPattern& pattern :
+       {random_symmetric_pattern(mesh, 4), random_symmetric_pattern(kLeaves + 1, star, 5)}) {
+    const Eigen::VectorXd x = Eigen::VectorXd::Random(pattern.size());
+    const Eigen::VectorXd product = pattern.matrix() * x;
+    std::vector<double> chunk_sums(static_cast<std::size_t>(pattern.num_chunks()));
+    // Random blocks are indefinite: the form can cancel, so round-off is measured against the
+    // sizes it is made of.
+    EXPECT_NEAR(pattern.quadratic_form(x, chunk_sums), x.dot(product),
+                test::kRoundoff * x.norm() * product.norm());
+  }
+}
+
 TEST(BlockPattern, ColumnAndRowBlocksAreEachOthersMirror) {
   const TetMesh mesh = make_tet_mesh(test::box_tets(2, 2, 1));
   const BlockPattern pattern = random_symmetric_pattern(mesh, 2);
