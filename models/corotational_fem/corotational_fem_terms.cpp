@@ -75,6 +75,29 @@ template <bool kTransposeA>
   }
 }
 
+/// [y1 - y0, y2 - y0, y3 - y0] of each element's nodes (the columns of `nodal`, e.g. positions
+/// or velocities) into lanes: element first + lane for lanes below `count`, zeros after.
+[[gnu::always_inline]] inline void load_edges(const Eigen::Matrix3Xd& nodal,
+                                              const Eigen::Matrix4Xi& tets,
+                                              int first,
+                                              int count,
+                                              Lanes3x3& out) {
+  for (int lane = 0; lane < count; ++lane) {
+    const double* y0 = nodal.col(tets(0, first + lane)).data();
+    for (int c = 0; c < 3; ++c) {
+      const double* y = nodal.col(tets(c + 1, first + lane)).data();
+      for (int i = 0; i < 3; ++i) {
+        out[i + 3 * c][lane] = y[i] - y0[i];
+      }
+    }
+  }
+  for (int lane = count; lane < kLanes; ++lane) {
+    for (int k = 0; k < 9; ++k) {
+      out[k][lane] = 0.0;
+    }
+  }
+}
+
 /// A lane's four node columns from its last three, h_1..h_3 (the columns of `h`): scale h_a,
 /// and node 0 minus their sum (the four sum to zero, as b_0 = -(b_1 + b_2 + b_3)).
 [[gnu::always_inline]] inline void store_nodes(const Lanes3x3& h,
@@ -122,15 +145,7 @@ void CorotationalFemModel::deform(ElementBatch& lanes, bool hold_rotations) {
   const auto begin = static_cast<std::size_t>(first);
   // F = [x1 - x0, x2 - x0, x3 - x0] Dm^-1.
   alignas(64) Lanes3x3 edges;
-  for (int lane = 0; lane < kLanes; ++lane) {
-    for (int c = 0; c < 3; ++c) {
-      for (int i = 0; i < 3; ++i) {
-        edges[i + 3 * c][lane] = lane < count ? positions_(i, tets_(c + 1, first + lane))
-                                                    - positions_(i, tets_(0, first + lane))
-                                              : 0.0;
-      }
-    }
-  }
+  load_edges(positions_, tets_, first, count, edges);
   multiply<false>(edges, lanes.rest->rest_inverse, lanes.deformation);
   if (params_.formulation != CorotationalFemParams::Formulation::kCorotational) {
     for (int k = 0; k < 9; ++k) {
@@ -189,15 +204,7 @@ void CorotationalFemModel::make_terms(ElementBatch& lanes, const TermScales& sca
   if (velocity_weight != 0.0) {
     // F + (beta + dt) G, G = [v1 - v0, v2 - v0, v3 - v0] Dm^-1 the velocity gradient: folds
     // -dt (beta + dt) K v into the force.
-    for (int lane = 0; lane < kLanes; ++lane) {
-      for (int c = 0; c < 3; ++c) {
-        for (int i = 0; i < 3; ++i) {
-          work[i + 3 * c][lane] = lane < count ? velocities_(i, tets_(c + 1, first + lane))
-                                                     - velocities_(i, tets_(0, first + lane))
-                                               : 0.0;
-        }
-      }
-    }
+    load_edges(velocities_, tets_, first, count, work);
     multiply<false>(work, rest_inverse, product);
 #pragma omp simd
     for (int lane = 0; lane < kLanes; ++lane) {
