@@ -38,12 +38,12 @@ struct PhaseTimes {
 /// incidences and the matrix pattern; a step allocates nothing (CHOLMOD's numeric factorisation,
 /// when used, makes ~10 small mallocs of its own per call).
 ///
-/// A step: (1) per element, F and R (parallel over elements); (2) per element, the right-hand
-/// side part and the rotated, volume-scaled gradients w_a = sqrt(V) R b_a (parallel over
-/// elements, into per-element storage); (3) per vertex and per edge, A's blocks and b gathered
+/// A step: (1) per batch of elements side by side in vector lanes, F, R, the right-hand side
+/// part and the rotated, volume-scaled gradients w_a = sqrt(V) R b_a (parallel over batches,
+/// the last two into per-element storage); (2) per vertex and per edge, A's blocks and b gathered
 /// from the incident elements in a fixed order (parallel, no atomics; the block sums are
-/// lambda S + mu S^T + mu s I with S = sum w_a w_b^T, s = sum w_a . w_b); (4) exact constraints
-/// eliminated; (5) one solve; (6) the update. Results do not depend on the thread count.
+/// lambda S + mu S^T + mu s I with S = sum w_a w_b^T, s = sum w_a . w_b); (3) exact constraints
+/// eliminated; (4) one solve; (5) the update. Results do not depend on the thread count.
 class CorotationalFemModel final : public SoftBody {
  public:
   CorotationalFemModel(const TetMesh& mesh,

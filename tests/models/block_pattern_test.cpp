@@ -52,17 +52,23 @@ BlockPattern random_symmetric_pattern(const TetMesh& mesh, unsigned seed) {
   return random_symmetric_pattern(mesh.num_vertices(), unique_edges(mesh.tets()), seed);
 }
 
-TEST(BlockPattern, MultiplyManyMatchesOneProductPerVector) {
-  // A box of tets (~15 neighbours a vertex), and a star whose centre has 150 neighbours: more
-  // than one gather buffer (64) holds.
-  const TetMesh mesh = make_tet_mesh(test::box_tets(4, 3, 3));
-  constexpr int kLeaves = 150;
-  Eigen::Matrix2Xi star(2, kLeaves);
-  for (int leaf = 0; leaf < kLeaves; ++leaf) {
+/// A star: vertex 0 joined to `leaves` others, more neighbours than one gather buffer (64) of
+/// multiply() holds.
+Eigen::Matrix2Xi star_edges(int leaves) {
+  Eigen::Matrix2Xi star(2, leaves);
+  for (int leaf = 0; leaf < leaves; ++leaf) {
     star.col(leaf) << 0, leaf + 1;
   }
+  return star;
+}
+
+TEST(BlockPattern, MultiplyManyMatchesOneProductPerVector) {
+  // A box of tets (~15 neighbours a vertex), and a star whose centre has 150 neighbours.
+  const TetMesh mesh = make_tet_mesh(test::box_tets(4, 3, 3));
+  constexpr int kLeaves = 150;
   for (const BlockPattern& pattern :
-       {random_symmetric_pattern(mesh, 2), random_symmetric_pattern(kLeaves + 1, star, 3)}) {
+       {random_symmetric_pattern(mesh, 2),
+        random_symmetric_pattern(kLeaves + 1, star_edges(kLeaves), 3)}) {
     std::vector<Eigen::VectorXd> x;
     std::vector<Eigen::VectorXd> y;
     for (int k = 0; k < BlockPattern::kManyVectors; ++k) {
@@ -114,12 +120,9 @@ TEST(BlockPattern, QuadraticFormFromTheUpperHalfIsTheDotOfTheProduct) {
   // whose blocks all lie above it (vertex 0) against leaves with none above.
   const TetMesh mesh = make_tet_mesh(test::box_tets(14, 12, 12));
   constexpr int kLeaves = 150;
-  Eigen::Matrix2Xi star(2, kLeaves);
-  for (int leaf = 0; leaf < kLeaves; ++leaf) {
-    star.col(leaf) << 0, leaf + 1;
-  }
   for (const BlockPattern& pattern :
-       {random_symmetric_pattern(mesh, 4), random_symmetric_pattern(kLeaves + 1, star, 5)}) {
+       {random_symmetric_pattern(mesh, 4),
+        random_symmetric_pattern(kLeaves + 1, star_edges(kLeaves), 5)}) {
     const Eigen::VectorXd x = Eigen::VectorXd::Random(pattern.size());
     const Eigen::VectorXd product = pattern.matrix() * x;
     std::vector<double> chunk_sums(static_cast<std::size_t>(pattern.num_chunks()));
