@@ -201,13 +201,7 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
 }
 
 double BlockPattern::quadratic_form(const Eigen::VectorXd& x, std::span<double> chunk_sums) const {
-  // sum over c of x_c . (A_cc x_c + 2 sum over n > c of A_cn x_n); row c is column c, so
-  // (A_cn x_n)_k is column k's strip of n dotted with x_n, the strips from c's own slot on.
-  const double* values = matrix_.valuePtr();
-  const int* outer = matrix_.outerIndexPtr();
-  const int* offsets = neighbour_offsets_.data();
-  const int* neighbours = neighbours_.data();
-  const double* in = x.data();
+  // sum over c of x_c . (A_cc x_c + 2 sum over n > c of A_cn x_n).
   const int chunks = num_chunks();
 #pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
   for (int chunk = 0; chunk < chunks; ++chunk) {
@@ -215,36 +209,10 @@ double BlockPattern::quadratic_form(const Eigen::VectorXd& x, std::span<double> 
     const int last = std::min(num_vertices_, first + kChunkVertices);
     double sum = 0.0;
     for (int c = first; c < last; ++c) {
-      const VertexColumns columns = vertex_columns(values, outer, offsets, c);
-      const int own = own_slot(c);
-      const double* xc = in + 3 * c;
-      // A_cc x_c, then sum over n > c of A_cn x_n in nine independent sums (a row of the block
-      // times a component of x_n each).
-      double own_part[3];
-      for (int k = 0; k < 3; ++k) {
-        const double* strip = columns.column0 + 3 * columns.degree * k + 3 * own;
-        own_part[k] = strip[0] * xc[0] + strip[1] * xc[1] + strip[2] * xc[2];
-      }
-      double s00 = 0.0, s01 = 0.0, s02 = 0.0;
-      double s10 = 0.0, s11 = 0.0, s12 = 0.0;
-      double s20 = 0.0, s21 = 0.0, s22 = 0.0;
-      for (int slot = own + 1; slot < columns.degree; ++slot) {
-        const double* xn = in + 3 * neighbours[columns.begin + slot];
-        const int at = 3 * slot;
-        s00 += columns.column0[at] * xn[0];
-        s01 += columns.column0[at + 1] * xn[1];
-        s02 += columns.column0[at + 2] * xn[2];
-        s10 += columns.column1[at] * xn[0];
-        s11 += columns.column1[at + 1] * xn[1];
-        s12 += columns.column1[at + 2] * xn[2];
-        s20 += columns.column2[at] * xn[0];
-        s21 += columns.column2[at + 1] * xn[1];
-        s22 += columns.column2[at + 2] * xn[2];
-      }
-      const double upper[3] = {(s00 + s01) + s02, (s10 + s11) + s12, (s20 + s21) + s22};
-      for (int k = 0; k < 3; ++k) {
-        sum += xc[k] * (own_part[k] + 2.0 * upper[k]);
-      }
+      const Eigen::Map<const Eigen::Vector3d> xc(x.data() + 3 * c);
+      Eigen::Vector3d upper;
+      neighbour_sum(c, /*lower=*/false, x.data(), upper.data());
+      sum += xc.dot(get(vertex_block(c)) * xc + 2.0 * upper);
     }
     chunk_sums[static_cast<std::size_t>(chunk)] = sum;
   }

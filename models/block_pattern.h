@@ -69,6 +69,52 @@ class BlockPattern {
     return (vertex_blocks_[static_cast<std::size_t>(vertex)][0] - column_values_begin(vertex)) / 3;
   }
 
+  /// sum over the neighbours n of vertex c before it (lower) or after it (upper) of A_cn y_n,
+  /// into out[3] (y: 3 values per vertex). The two halves of a Gauss-Seidel sweep's row (the
+  /// SSOR solver's) and of quadratic_form().
+  [[gnu::always_inline]] void neighbour_sum(int c, bool lower, const double* y, double* out) const {
+    // Row c of the symmetric matrix is column c: block (c, n) is the transpose of the strip of n
+    // in c's columns, so (A_cn y_n)_k = column k's strip of n dotted with y_n.
+    const std::span<const int> row = neighbours(c);
+    const auto degree = static_cast<int>(row.size());
+    const int own = own_slot(c);
+    const int first = lower ? 0 : own + 1;
+    const int last = lower ? own : degree;
+    const double* column0 = matrix_.valuePtr() + column_values_begin(c);
+    const double* column1 = column0 + 3 * degree;
+    const double* column2 = column1 + 3 * degree;
+    // Nine independent sums (a row of the block times a component of y_n each), so the
+    // multiply-adds of consecutive neighbours overlap instead of waiting on three running sums.
+    const int* neighbour = row.data();
+    double s00 = 0.0, s01 = 0.0, s02 = 0.0;
+    double s10 = 0.0, s11 = 0.0, s12 = 0.0;
+    double s20 = 0.0, s21 = 0.0, s22 = 0.0;
+    // The sweep's newest value is its nearest neighbour's (c - 1 forward, c + 1 backward: the
+    // vertex order keeps neighbours close), so that neighbour is added last, and the sums over the
+    // others do not wait for it: ascending for the lower part, descending for the upper.
+    const int step = lower ? 1 : -1;
+    const int begin = lower ? first : last - 1;
+    for (int i = 0, slot = begin; i < last - first; ++i, slot += step) {
+      const double* yn = y + 3 * neighbour[slot];
+      const double y0 = yn[0];
+      const double y1 = yn[1];
+      const double y2 = yn[2];
+      const int at = 3 * slot;
+      s00 += column0[at] * y0;
+      s01 += column0[at + 1] * y1;
+      s02 += column0[at + 2] * y2;
+      s10 += column1[at] * y0;
+      s11 += column1[at + 1] * y1;
+      s12 += column1[at + 2] * y2;
+      s20 += column2[at] * y0;
+      s21 += column2[at + 1] * y1;
+      s22 += column2[at + 2] * y2;
+    }
+    out[0] = (s00 + s01) + s02;
+    out[1] = (s10 + s11) + s12;
+    out[2] = (s20 + s21) + s22;
+  }
+
   /// Writes `block` (a 3x3 matrix) into the entries `where`.
   template <class Block>
   void set(const BlockEntries& where, const Block& block) {

@@ -92,58 +92,11 @@ bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
   return true;
 }
 
-[[gnu::always_inline]] inline void SsorConjugateGradientSolver::neighbour_sum(
-    const BlockPattern& a, int c, bool lower, const double* y, double* out) {
-  // Row c of the symmetric matrix is column c: block (c, n) is the transpose of the strip of n
-  // in c's columns, so (A_cn y_n)_k = column k's strip of n dotted with y_n.
-  const std::span<const int> neighbours = a.neighbours(c);
-  const auto degree = static_cast<int>(neighbours.size());
-  const int own = a.own_slot(c);
-  const int first = lower ? 0 : own + 1;
-  const int last = lower ? own : degree;
-  const double* column0 = a.matrix().valuePtr() + a.column_values_begin(c);
-  const double* column1 = column0 + 3 * degree;
-  const double* column2 = column1 + 3 * degree;
-  // Nine independent sums (a row of the block times a component of y_n each), so the
-  // multiply-adds of consecutive neighbours overlap instead of waiting on three running sums.
-  const int* neighbour = neighbours.data();
-  double s00 = 0.0, s01 = 0.0, s02 = 0.0;
-  double s10 = 0.0, s11 = 0.0, s12 = 0.0;
-  double s20 = 0.0, s21 = 0.0, s22 = 0.0;
-  // The sweep's newest value is its nearest neighbour's (c - 1 forward, c + 1 backward: the
-  // vertex order keeps neighbours close), so that neighbour is added last, and the sums over the
-  // others do not wait for it: ascending for the lower part, descending for the upper.
-  const int step = lower ? 1 : -1;
-  const int begin = lower ? first : last - 1;
-  for (int i = 0, slot = begin; i < last - first; ++i, slot += step) {
-    const double* yn = y + 3 * neighbour[slot];
-    const double y0 = yn[0];
-    const double y1 = yn[1];
-    const double y2 = yn[2];
-    const int at = 3 * slot;
-    s00 += column0[at] * y0;
-    s01 += column0[at + 1] * y1;
-    s02 += column0[at + 2] * y2;
-    s10 += column1[at] * y0;
-    s11 += column1[at + 1] * y1;
-    s12 += column1[at + 2] * y2;
-    s20 += column2[at] * y0;
-    s21 += column2[at + 1] * y1;
-    s22 += column2[at + 2] * y2;
-  }
-  const double sum0 = (s00 + s01) + s02;
-  const double sum1 = (s10 + s11) + s12;
-  const double sum2 = (s20 + s21) + s22;
-  out[0] = sum0;
-  out[1] = sum1;
-  out[2] = sum2;
-}
-
 SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
                                                const Eigen::VectorXd& b,
                                                Eigen::VectorXd& x,
                                                const double* offset) {
-  const Eigen::VectorXd* start_product = take_start_product();
+  const Eigen::VectorXd* known_product = take_start_product();
   SolveReport report;
   const double rhs_norm = b.norm();
   if (rhs_norm == 0.0) {
@@ -159,10 +112,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   EnergyErrorEstimate estimate(
       reference_energy(a, x, offset, energy_floor(), direction_, chunk_sums_));
   // r0 = b - A x0, with the caller's product when it has one.
-  if (start_product == nullptr) {
-    a.multiply(x, product_);
-  }
-  const double* ax = start_product != nullptr ? start_product->data() : product_.data();
+  const double* ax = start_product(a, x, known_product, product_).data();
 
   const double* d = diagonal_.data();
   const double* inverse = inverse_.data();
@@ -184,7 +134,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   double transformed_rhs_squared = 0.0;
   for (int c = 0; c < n; ++c) {
     double lower[3];
-    neighbour_sum(a, c, /*lower=*/true, g, lower);
+    a.neighbour_sum(c, /*lower=*/true, g, lower);
     const double rest[3] = {bs[3 * c] - ax[3 * c] - lower[0],
                             bs[3 * c + 1] - ax[3 * c + 1] - lower[1],
                             bs[3 * c + 2] - ax[3 * c + 2] - lower[2]};
@@ -210,7 +160,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
         p[3 * c + k] = pc[k];
       }
       double upper[3];
-      neighbour_sum(a, c, /*lower=*/false, t, upper);
+      a.neighbour_sum(c, /*lower=*/false, t, upper);
       const double rest[3] = {pc[0] - upper[0], pc[1] - upper[1], pc[2] - upper[2]};
       block_multiply(inverse + 9 * c, rest, t + 3 * c);
       g[3 * c] = upper[0];
@@ -221,7 +171,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     double curvature = 0.0;
     for (int c = 0; c < n; ++c) {
       double lower[3];
-      neighbour_sum(a, c, /*lower=*/true, g, lower);
+      a.neighbour_sum(c, /*lower=*/true, g, lower);
       const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
                               g[3 * c + 2] - lower[2]};
       double y[3];
@@ -243,7 +193,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   // x = x0 + (D + U)^-1 x^ ...
   for (int c = n - 1; c >= 0; --c) {
     double upper[3];
-    neighbour_sum(a, c, /*lower=*/false, t, upper);
+    a.neighbour_sum(c, /*lower=*/false, t, upper);
     const double rest[3] = {x_hat[3 * c] - upper[0], x_hat[3 * c + 1] - upper[1],
                             x_hat[3 * c + 2] - upper[2]};
     block_multiply(inverse + 9 * c, rest, t + 3 * c);
@@ -255,7 +205,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
   for (int c = 0; c < n; ++c) {
     double lower[3];
-    neighbour_sum(a, c, /*lower=*/true, r, lower);
+    a.neighbour_sum(c, /*lower=*/true, r, lower);
     double own[3];
     block_multiply(d + 9 * c, r + 3 * c, own);
     for (int k = 0; k < 3; ++k) {

@@ -49,9 +49,6 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   /// (coarse_) for the three rigid translations Z, in one pass over the matrix's values; false
   /// if a diagonal block is singular or not finite.
   bool load_columns(const BlockPattern& a);
-  /// sum over c's neighbours n before c (lower: the forward sweep's) or after it (upper) of
-  /// A_cn y_n, into out[3].
-  static void neighbour_sum(const BlockPattern& a, int c, bool lower, const double* y, double* out);
 
   LinearSolverOptions options_;
   int num_vertices_ = 0;

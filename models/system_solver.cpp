@@ -88,7 +88,7 @@ class PcgIterations {
                   Eigen::VectorXd& x,
                   const double* offset,
                   double energy_floor,
-                  const Eigen::VectorXd* start_product,
+                  const Eigen::VectorXd* known_product,
                   double tolerance,
                   int max_iterations,
                   const Preconditioner& precondition) {
@@ -115,10 +115,7 @@ class PcgIterations {
     EnergyErrorEstimate estimate(
         reference_energy(a, x, offset, energy_floor, direction_, vectors_.chunk_sums()));
 
-    if (start_product == nullptr) {
-      a.multiply(x, product_);
-    }
-    const double* ax = start_product != nullptr ? start_product->data() : q;
+    const double* ax = start_product(a, x, known_product, product_).data();
     double residual_norm =
         std::sqrt(vectors_.for_each_chunk([r, bs, ax](Eigen::Index begin, Eigen::Index end) {
           double sum = 0.0;
@@ -287,7 +284,7 @@ class CholeskyPcgSolver final : public SystemSolver {
                     const Eigen::VectorXd& b,
                     Eigen::VectorXd& x,
                     const double* offset) override {
-    const Eigen::VectorXd* start_product = take_start_product();
+    const Eigen::VectorXd* known_product = take_start_product();
     int factorizations = 0;
     if (stale_) {
       if (!refactorize(a)) {
@@ -298,7 +295,7 @@ class CholeskyPcgSolver final : public SystemSolver {
     const auto precondition = [this](const Eigen::VectorXd& r, Eigen::VectorXd& z) {
       factor_.solve(r, z);
     };
-    SolveReport report = iterations_.run(a, b, x, offset, energy_floor(), start_product,
+    SolveReport report = iterations_.run(a, b, x, offset, energy_floor(), known_product,
                                          options_.tolerance, options_.max_iterations, precondition);
     if (!report.converged && factorizations == 0) {
       // The old factor no longer preconditions this matrix: refactorise and continue from x.

@@ -126,6 +126,19 @@ double reference_energy(const BlockPattern& a,
                         Eigen::VectorXd& work,
                         std::span<double> chunk_sums);
 
+/// A x0 for a solve's start x0 = `x`: `known` when the caller made it
+/// (SystemSolver::set_start_product()), else made into `scratch`.
+inline const Eigen::VectorXd& start_product(const BlockPattern& a,
+                                            const Eigen::VectorXd& x,
+                                            const Eigen::VectorXd* known,
+                                            Eigen::VectorXd& scratch) {
+  if (known != nullptr) {
+    return *known;
+  }
+  a.multiply(x, scratch);
+  return scratch;
+}
+
 /// What one solve of the implicit system cost and how well it did.
 struct SolveReport {
   int iterations = 0;     ///< CG iterations (0 for kCholmod)

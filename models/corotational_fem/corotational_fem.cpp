@@ -65,18 +65,13 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
       rest_size_(bounding_box_diagonal(rest_positions_)),
       constraints_(inner.mesh.num_vertices()) {
   const auto num_elements = static_cast<std::size_t>(num_elements_);
-  elements_.reserve(num_elements);
   rest_batches_.resize((num_elements + kElementLanes - 1) / kElementLanes, RestBatch{});
   for (int t = 0; t < num_elements_; ++t) {
     const TetRest rest = tet_rest(tet_positions(rest_positions_, tets_, t));
-    elements_.push_back(rest);
-    const Eigen::Matrix3d scaled_gradients = std::sqrt(rest.volume) * rest.rest_inverse.transpose();
     RestBatch& batch = rest_batches_[static_cast<std::size_t>(t / kElementLanes)];
     const int lane = t % kElementLanes;
-    for (int k = 0; k < 9; ++k) {
-      batch.rest_inverse[k][lane] = rest.rest_inverse.data()[k];
-      batch.scaled_gradients[k][lane] = scaled_gradients.data()[k];
-    }
+    set_lane(batch.rest_inverse, lane, rest.rest_inverse);
+    set_lane(batch.scaled_gradients, lane, std::sqrt(rest.volume) * rest.rest_inverse.transpose());
     batch.volume[lane] = rest.volume;
   }
 
@@ -141,10 +136,9 @@ void CorotationalFemModel::reset() {
   for (int t = 0; t < num_elements_; ++t) {
     // At rest (and always, for linear FEM): w_a = sqrt(V) b_a.
     Matrix34d& w = element_gradients_[static_cast<std::size_t>(t)];
-    const RestBatch& batch = rest_batches_[static_cast<std::size_t>(t / kElementLanes)];
-    for (int k = 0; k < 9; ++k) {
-      w.rightCols<3>().data()[k] = batch.scaled_gradients[k][t % kElementLanes];
-    }
+    w.rightCols<3>() =
+        lane_of(rest_batches_[static_cast<std::size_t>(t / kElementLanes)].scaled_gradients,
+                t % kElementLanes);
     w.col(0) = -w.rightCols<3>().rowwise().sum();
   }
 }
@@ -165,12 +159,17 @@ void CorotationalFemModel::set_velocities(const Eigen::Matrix3Xd& velocities) {
   solver_->forget();
 }
 
+TetRest CorotationalFemModel::rest_of(int t) const {
+  const RestBatch& batch = rest_batches_[static_cast<std::size_t>(t / kElementLanes)];
+  return {lane_of(batch.rest_inverse, t % kElementLanes), batch.volume[t % kElementLanes]};
+}
+
 double CorotationalFemModel::elastic_energy() const {
   const bool corotational =
       params_.formulation == CorotationalFemParams::Formulation::kCorotational;
   double energy = 0.0;
   for (int t = 0; t < num_elements_; ++t) {
-    const TetRest& rest = elements_[static_cast<std::size_t>(t)];
+    const TetRest rest = rest_of(t);
     const Eigen::Matrix3d deformation =
         deformation_gradient(rest, tet_positions(positions_, tets_, t));
     const Eigen::Matrix3d rotation =
@@ -182,11 +181,10 @@ double CorotationalFemModel::elastic_energy() const {
 
 std::size_t CorotationalFemModel::memory_bytes() const {
   return bytes_of(tets_) + bytes_of(masses_) + bytes_of(rest_positions_)
-         + bytes_of_elements(elements_) + bytes_of_elements(rest_batches_)
-         + bytes_of_elements(vertex_offsets_) + bytes_of_elements(vertex_incidences_)
-         + bytes_of_elements(edge_offsets_) + bytes_of_elements(edge_incidences_)
-         + renumbering_.memory_bytes() + bytes_of(positions_) + bytes_of(velocities_)
-         + bytes_of(constraint_forces_) + bytes_of_elements(quaternions_)
+         + bytes_of_elements(rest_batches_) + bytes_of_elements(vertex_offsets_)
+         + bytes_of_elements(vertex_incidences_) + bytes_of_elements(edge_offsets_)
+         + bytes_of_elements(edge_incidences_) + renumbering_.memory_bytes() + bytes_of(positions_)
+         + bytes_of(velocities_) + bytes_of(constraint_forces_) + bytes_of_elements(quaternions_)
          + bytes_of_elements(deformations_) + bytes_of_elements(rotations_)
          + bytes_of_elements(element_rhs_) + bytes_of_elements(element_gradients_)
          + constraints_.memory_bytes() + pattern_->memory_bytes() + solver_->memory_bytes()

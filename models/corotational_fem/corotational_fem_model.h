@@ -59,6 +59,21 @@ class CorotationalFemModel final : public SoftBody {
   static constexpr int kParallelElements = 16384;
   /// Elements side by side in the element kernels, one per vector lane.
   static constexpr int kElementLanes = 8;
+  /// A 3x3 matrix of each lane: column-major entries, m[i + 3 j][lane] is entry (i, j).
+  using Lanes3x3 = double[9][kElementLanes];
+  /// Lane `lane` of `lanes` as a matrix, and a matrix into it.
+  static Eigen::Matrix3d lane_of(const Lanes3x3& lanes, int lane) {
+    Eigen::Matrix3d m;
+    for (int k = 0; k < 9; ++k) {
+      m.data()[k] = lanes[k][lane];
+    }
+    return m;
+  }
+  static void set_lane(Lanes3x3& lanes, int lane, const Eigen::Matrix3d& m) {
+    for (int k = 0; k < 9; ++k) {
+      lanes[k][lane] = m.data()[k];
+    }
+  }
 
   std::string_view name() const override { return "corotational_fem"; }
   nlohmann::json parameters() const override;
@@ -149,16 +164,17 @@ class CorotationalFemModel final : public SoftBody {
   Eigen::Matrix3Xd rest_positions_;
   double total_mass_ = 0.0;  ///< kg, and the rest bounding-box diagonal (m): the iterative
   double rest_size_ = 0.0;   ///< solve's floor at rest (resting_energy())
-  std::vector<TetRest> elements_;
-  /// The rest data of kElementLanes elements side by side, as the element kernels read it:
-  /// 3x3 matrices as column-major entries, entry k of lane l at [k][l]; unused lanes zero. Kept
-  /// in this layout, not gathered from elements_ every step: 2% of the liver's step.
+  /// The elements' rest data, kElementLanes elements side by side as the element kernels read
+  /// it (Lanes3x3; unused lanes zero), and only so: kept in this layout rather than gathered
+  /// from per-element matrices every step, 2% of the liver's step.
   struct RestBatch {
-    alignas(64) double rest_inverse[9][kElementLanes];      ///< Dm^-1
-    alignas(64) double scaled_gradients[9][kElementLanes];  ///< sqrt(V) [b1 b2 b3]: w_a = R these
-    alignas(64) double volume[kElementLanes];               ///< V
+    alignas(64) Lanes3x3 rest_inverse;         ///< Dm^-1
+    alignas(64) Lanes3x3 scaled_gradients;     ///< sqrt(V) [b1 b2 b3]: w_a = R these
+    alignas(64) double volume[kElementLanes];  ///< V
   };
   std::vector<RestBatch> rest_batches_;
+  /// Element t's rest data.
+  TetRest rest_of(int t) const;
   // Incidences (CSR) for the gathers: per vertex, element * 4 + local index; per edge (i < j),
   // element * 16 + 4 * (local index of i) + (local index of j).
   std::vector<int> vertex_offsets_;

@@ -11,19 +11,19 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <span>
 
 namespace softbench::corotational_fem {
 namespace {
 
-/// Elements computed side by side, one per vector lane. The terms are a dozen small matrix
-/// products per element; written element by element (Eigen's fixed 3x3 products) they ran one
-/// scalar multiply-add at a time, 15-18% of the liver's step. In lanes, structure of arrays,
+/// Elements computed side by side, one per vector lane (kElementLanes). The terms are a dozen small
+/// matrix products per element; written element by element (Eigen's fixed 3x3 products) they ran
+/// one scalar multiply-add at a time, 15-18% of the liver's step. In lanes, structure of arrays,
 /// every multiply-add is a full vector's. Eight lanes: two AVX2 vectors of doubles (or four
 /// SSE2 ones), and the batch's arrays (about 100 doubles a lane) stay in L1.
-constexpr int kLanes = 8;
-
-/// Column-major 3x3 entries of each lane: m[i + 3 j][lane] is entry (i, j).
-using Lanes3x3 = double[9][kLanes];
+constexpr int kLanes = CorotationalFemModel::kElementLanes;
+static_assert(kLanes == kRotationLanes, "the rotations are extracted in the terms' lanes");
+using Lanes3x3 = CorotationalFemModel::Lanes3x3;
 
 /// out = a^T b or a b (transpose_a), lane by lane.
 template <bool kTransposeA>
@@ -60,18 +60,15 @@ template <bool kTransposeA>
 /// Copies `count` 3x3 matrices (column-major, Eigen's layout) into lanes; unused lanes get 0.
 [[gnu::always_inline]] inline void load(const Eigen::Matrix3d* matrices, int count, Lanes3x3& out) {
   for (int lane = 0; lane < kLanes; ++lane) {
-    for (int k = 0; k < 9; ++k) {
-      out[k][lane] = lane < count ? matrices[lane].data()[k] : 0.0;
-    }
+    CorotationalFemModel::set_lane(out, lane,
+                                   lane < count ? matrices[lane] : Eigen::Matrix3d::Zero().eval());
   }
 }
 
 /// The first `count` lanes into 3x3 matrices.
 [[gnu::always_inline]] inline void store(const Lanes3x3& lanes, int count, Eigen::Matrix3d* out) {
   for (int lane = 0; lane < count; ++lane) {
-    for (int k = 0; k < 9; ++k) {
-      out[lane].data()[k] = lanes[k][lane];
-    }
+    out[lane] = CorotationalFemModel::lane_of(lanes, lane);
   }
 }
 
@@ -156,34 +153,16 @@ void CorotationalFemModel::deform(ElementBatch& lanes, bool hold_rotations) {
   } else if (hold_rotations) {
     load(rotations_.data() + begin, count, lanes.rotation);
   } else if (params_.rotation == CorotationalFemParams::Rotation::kSvd) {
-    for (int lane = 0; lane < count; ++lane) {
-      Eigen::Matrix3d deformation;
-      for (int k = 0; k < 9; ++k) {
-        deformation.data()[k] = lanes.deformation[k][lane];
-      }
-      const Eigen::Matrix3d rotation = rotation_by_svd(deformation);
-      for (int k = 0; k < 9; ++k) {
-        lanes.rotation[k][lane] = rotation.data()[k];
-      }
+    for (int lane = 0; lane < kLanes; ++lane) {
+      set_lane(lanes.rotation, lane,
+               lane < count ? rotation_by_svd(lane_of(lanes.deformation, lane))
+                            : Eigen::Matrix3d::Identity().eval());
     }
   } else {
-    // Warm-started from the last rotation of each element; unused lanes rest at q = 1.
-    double q[4][kLanes];
-    for (int lane = 0; lane < kLanes; ++lane) {
-      const Eigen::Quaterniond start = lane < count
-                                           ? quaternions_[begin + static_cast<std::size_t>(lane)]
-                                           : Eigen::Quaterniond::Identity();
-      q[0][lane] = start.w();
-      q[1][lane] = start.x();
-      q[2][lane] = start.y();
-      q[3][lane] = start.z();
-    }
-    extract_rotation_lanes(lanes.deformation, q, lanes.rotation, params_.rotation_iterations,
-                           params_.rotation_tolerance);
-    for (int lane = 0; lane < count; ++lane) {
-      quaternions_[begin + static_cast<std::size_t>(lane)] =
-          Eigen::Quaterniond(q[0][lane], q[1][lane], q[2][lane], q[3][lane]);
-    }
+    // Warm-started from the last rotation of each element.
+    extract_rotation_lanes(lanes.deformation,
+                           std::span(quaternions_).subspan(begin, static_cast<std::size_t>(count)),
+                           lanes.rotation, params_.rotation_iterations, params_.rotation_tolerance);
   }
 }
 

@@ -43,12 +43,22 @@ inline void rotation_of(
 }  // namespace
 
 void extract_rotation_lanes(const double (&f)[9][kLanes],
-                            double (&q)[4][kLanes],
+                            std::span<Eigen::Quaterniond> rotations,
                             double (&r)[9][kLanes],
                             int max_iterations,
                             double tolerance) {
   constexpr double kDenominatorFloor = 1e-9;  // as extract_rotation()
   const double tolerance_squared = tolerance * tolerance;
+  const auto count = static_cast<int>(rotations.size());
+  double q[4][kLanes];  // (w, x, y, z); unused lanes at q = 1
+  for (int lane = 0; lane < kLanes; ++lane) {
+    const Eigen::Quaterniond start =
+        lane < count ? rotations[static_cast<std::size_t>(lane)] : Eigen::Quaterniond::Identity();
+    q[0][lane] = start.w();
+    q[1][lane] = start.x();
+    q[2][lane] = start.y();
+    q[3][lane] = start.z();
+  }
 #pragma omp simd
   for (int lane = 0; lane < kLanes; ++lane) {
     rotation_of(q[0][lane], q[1][lane], q[2][lane], q[3][lane], r, lane);
@@ -110,6 +120,10 @@ void extract_rotation_lanes(const double (&f)[9][kLanes],
       rotation_of(nw, nx, ny, nz, r, lane);
     }
   }
+  for (int lane = 0; lane < count; ++lane) {
+    rotations[static_cast<std::size_t>(lane)] =
+        Eigen::Quaterniond(q[0][lane], q[1][lane], q[2][lane], q[3][lane]);
+  }
 }
 
 void extract_rotations(std::span<const Eigen::Matrix3d> deformations,
@@ -120,25 +134,16 @@ void extract_rotations(std::span<const Eigen::Matrix3d> deformations,
   constexpr auto kBatch = static_cast<std::size_t>(kLanes);
   for (std::size_t first = 0; first < deformations.size(); first += kBatch) {
     const std::size_t count = std::min(kBatch, deformations.size() - first);
-    // Unused lanes hold F = 0, q = 1.
+    // Unused lanes hold F = 0.
     double f[9][kLanes];
-    double q[4][kLanes];
     double r[9][kLanes];
     for (std::size_t lane = 0; lane < kBatch; ++lane) {
-      const bool used = lane < count;
       for (int k = 0; k < 9; ++k) {
-        f[k][lane] = used ? deformations[first + lane].data()[k] : 0.0;
+        f[k][lane] = lane < count ? deformations[first + lane].data()[k] : 0.0;
       }
-      const Eigen::Quaterniond start =
-          used ? rotations[first + lane] : Eigen::Quaterniond::Identity();
-      q[0][lane] = start.w();
-      q[1][lane] = start.x();
-      q[2][lane] = start.y();
-      q[3][lane] = start.z();
     }
-    extract_rotation_lanes(f, q, r, max_iterations, tolerance);
+    extract_rotation_lanes(f, rotations.subspan(first, count), r, max_iterations, tolerance);
     for (std::size_t lane = 0; lane < count; ++lane) {
-      rotations[first + lane] = Eigen::Quaterniond(q[0][lane], q[1][lane], q[2][lane], q[3][lane]);
       for (int k = 0; k < 9; ++k) {
         matrices[first + lane].data()[k] = r[k][lane];
       }

@@ -71,15 +71,16 @@ inline int extract_rotation(const Eigen::Matrix3d& deformation,
 /// doubles, four SSE2 ones).
 inline constexpr int kRotationLanes = 8;
 
-/// extract_rotation() for kRotationLanes elements at once, in structure-of-arrays form: `f` and
-/// `r` hold column-major 3x3 entries (f[i + 3 j][lane] is F(i, j)), `q` unit quaternions
-/// (w, x, y, z), the warm starts, improved in place; `r` receives R(q). Each instruction
-/// advances every lane (one element's iteration is a chain of dependent divisions and square
-/// roots). The lanes stop together, when every lane's next update is below `tolerance`; until
-/// then a lane that has converged still takes its (smaller than tolerance) updates. Unused
-/// lanes are harmless with F = 0 and q = 1.
+/// extract_rotation() for up to kRotationLanes elements at once, in structure-of-arrays form:
+/// `f` and `r` hold column-major 3x3 entries (f[i + 3 j][lane] is F(i, j)); `rotations` (one
+/// per used lane, the first rotations.size() lanes) are the warm starts, improved in place, and
+/// `r` receives R(q) in every lane (the unused ones' rest at q = 1 whatever their F). Each
+/// instruction advances every lane (one element's iteration is a chain of dependent divisions
+/// and square roots). The lanes stop together, when every lane's next update is below
+/// `tolerance`; until then a lane that has converged still takes its (smaller than tolerance)
+/// updates.
 void extract_rotation_lanes(const double (&f)[9][kRotationLanes],
-                            double (&q)[4][kRotationLanes],
+                            std::span<Eigen::Quaterniond> rotations,
                             double (&r)[9][kRotationLanes],
                             int max_iterations,
                             double tolerance);
