@@ -303,13 +303,14 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
     }
     // A point farther from the surface than the radius, on either side, pushes nothing: the
     // query opens only the tree's nodes within it.
-    const std::optional<MeshDistance::Nearest> found = tissue_distance_.nearest_within(p, radius);
+    const std::optional<MeshDistance::Nearest> found =
+        tissue_distance_.nearest_within(p, radius, nullptr, clearance_.hint(i));
     if (!found) {
       clearance_.record_far(i, radius);
       continue;
     }
     const MeshDistance::Nearest& nearest = *found;
-    clearance_.record(i, nearest.signed_distance);
+    clearance_.record(i, nearest.signed_distance, nearest.triangle);
     const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
     const bool pressed =
         was_pressed(corners(0)) || was_pressed(corners(1)) || was_pressed(corners(2));
@@ -320,7 +321,7 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
     // surface: a point that far beyond the band needs no query of the predicted surface.
     if (nearest.signed_distance >= band
         && (nearest.signed_distance >= band + tissue_motion_
-            || predicted_distance_.signed_distance(p) >= band)) {
+            || predicted_distance_.nearest(p, nullptr, nearest.triangle).signed_distance >= band)) {
       continue;
     }
     if (nearest.signed_distance < 0.0 && behind_fold(i, pose, nearest)) {
@@ -495,13 +496,14 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
     // held on it, and holding their triangles fully would make the contact stick). One deeper
     // than the radius is behind a fold, one outside by as much is out: neither needs its nearest
     // point.
-    const std::optional<MeshDistance::Nearest> found = tissue_distance_.nearest_within(p, radius);
+    const std::optional<MeshDistance::Nearest> found =
+        tissue_distance_.nearest_within(p, radius, nullptr, clearance_.hint(i));
     if (!found) {
       clearance_.record_far(i, radius);
       continue;
     }
     const MeshDistance::Nearest& nearest = *found;
-    clearance_.record(i, nearest.signed_distance);
+    clearance_.record(i, nearest.signed_distance, nearest.triangle);
     if (nearest.signed_distance >= 0.0) {
       continue;
     }
@@ -578,8 +580,9 @@ ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
     if (!tissue_box.contains(p)) {
       continue;
     }
-    const double signed_distance = tissue_distance_.nearest(p).signed_distance;
-    clearance_.record(i, signed_distance);
+    const MeshDistance::Nearest nearest = tissue_distance_.nearest(p, nullptr, clearance_.hint(i));
+    const double signed_distance = nearest.signed_distance;
+    clearance_.record(i, signed_distance, nearest.triangle);
     const double depth = -signed_distance;
     if (depth > 0.0) {
       report.max_penetration = std::max(report.max_penetration, depth);

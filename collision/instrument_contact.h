@@ -34,7 +34,8 @@
 // of the contact's reach of the tissue (where the step starts and in its free flight), a step
 // costs a pass over the vertices and nothing is refitted or searched; near it, an instrument
 // point is searched for only within that reach (farther points push nothing), and what earlier
-// searches found spares most points a search (SampleClearance).
+// searches found spares most points a search (SampleClearance) and starts the others' searches
+// at the triangle found last (MeshDistance::nearest_within's hint).
 #pragma once
 
 #include "collision/bvh.h"

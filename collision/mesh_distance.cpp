@@ -107,24 +107,42 @@ Eigen::Vector3d MeshDistance::vertex_pseudonormal(int vertex) const {
   return sum;
 }
 
-MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point, QueryStats* stats) const {
-  return search(point, std::numeric_limits<double>::infinity(), stats);
+MeshDistance::Nearest MeshDistance::nearest(const Eigen::Vector3d& point,
+                                            QueryStats* stats,
+                                            int hint) const {
+  return search(point, std::numeric_limits<double>::infinity(), stats, hint);
 }
 
 std::optional<MeshDistance::Nearest> MeshDistance::nearest_within(const Eigen::Vector3d& point,
                                                                   double radius,
-                                                                  QueryStats* stats) const {
-  Nearest found = search(point, radius * radius, stats);
+                                                                  QueryStats* stats,
+                                                                  int hint) const {
+  Nearest found = search(point, radius * radius, stats, hint);
   return found.triangle >= 0 ? std::optional<Nearest>(found) : std::nullopt;
 }
 
 MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
                                            double best_squared,
-                                           QueryStats* stats) const {
+                                           QueryStats* stats,
+                                           int hint) const {
   Nearest best;
   QueryStats counts;
   if (tree_.empty()) {
     return best;
+  }
+  if (hint >= 0) {
+    const TrianglePoint candidate = closest_point_on_triangle(
+        point, positions_.col(triangles_(0, hint)), positions_.col(triangles_(1, hint)),
+        positions_.col(triangles_(2, hint)));
+    ++counts.tri_tests;
+    const double squared = (candidate.point - point).squaredNorm();
+    if (squared < best_squared) {
+      best_squared = squared;
+      best.triangle = hint;
+      best.point = candidate.point;
+      best.barycentric = candidate.barycentric;
+      best.feature = candidate.feature;
+    }
   }
   // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
   std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;

@@ -61,15 +61,22 @@ class MeshDistance {
   void update(const Eigen::Matrix3Xd& positions);
 
   /// The closest point of the mesh to `point`, its feature, and the sign from the pseudonormal
-  /// test (see above). Ties go to the triangle found first. No allocation.
-  Nearest nearest(const Eigen::Vector3d& point, QueryStats* stats = nullptr) const;
+  /// test (see above). Ties go to the triangle found first. No allocation. `hint`: as for
+  /// nearest_within().
+  Nearest nearest(const Eigen::Vector3d& point, QueryStats* stats = nullptr, int hint = -1) const;
 
   /// nearest() among the surface points nearer than `radius` (m) only: none when the surface is
   /// farther. Only the nodes nearer than `radius` are opened, so a point far from the surface
   /// costs a few node tests, not a search for its nearest point.
+  /// `hint`: a triangle likely to hold the nearest point (the one an earlier query of a nearby
+  /// point found; -1: none). Its distance bounds the descent from the start, so only nodes
+  /// nearer than it are opened: a point that moved little since that query costs a few node
+  /// tests instead of a search from `radius`. The answer is the same but for ties (equally
+  /// near triangles on a shared edge or vertex: the hint wins them).
   std::optional<Nearest> nearest_within(const Eigen::Vector3d& point,
                                         double radius,
-                                        QueryStats* stats = nullptr) const;
+                                        QueryStats* stats = nullptr,
+                                        int hint = -1) const;
 
   /// Shorthands for nearest(point).signed_distance and its sign.
   double signed_distance(const Eigen::Vector3d& point) const {
@@ -84,8 +91,11 @@ class MeshDistance {
 
  private:
   /// The descent behind nearest(): the closest point among those nearer than sqrt(best_squared)
-  /// (triangle -1 when there is none), with its side.
-  Nearest search(const Eigen::Vector3d& point, double best_squared, QueryStats* stats) const;
+  /// (triangle -1 when there is none), with its side; triangle `hint` (>= 0) is tried first.
+  Nearest search(const Eigen::Vector3d& point,
+                 double best_squared,
+                 QueryStats* stats,
+                 int hint = -1) const;
   /// Unit normal of triangle t (zero when it is degenerate).
   Eigen::Vector3d face_normal(int t) const;
   /// Pseudonormal (not normalised) of an edge: its faces' unit normals summed.

@@ -32,13 +32,15 @@ SampleClearance::SampleClearance(Eigen::Index samples, const Eigen::Matrix3Xd& i
     : instrument_(instrument),
       clearance_(static_cast<std::size_t>(samples), 0.0),
       travel_at_(static_cast<std::size_t>(samples), 0.0),
-      side_(static_cast<std::size_t>(samples), 0) {}
+      side_(static_cast<std::size_t>(samples), 0),
+      triangle_(static_cast<std::size_t>(samples), -1) {}
 
 void SampleClearance::advance(const Eigen::Matrix3Xd& surface, const Eigen::Isometry3d& pose) {
   if (!have_state_ || surface.cols() != surface_.cols()) {
     // No state to measure the moves from: nothing recorded so far can be trusted.
     std::fill(side_.begin(), side_.end(), static_cast<signed char>(0));
     std::fill(clearance_.begin(), clearance_.end(), 0.0);
+    std::fill(triangle_.begin(), triangle_.end(), -1);
     surface_ = surface;
     pose_ = pose;
     have_state_ = true;
@@ -51,8 +53,9 @@ void SampleClearance::advance(const Eigen::Matrix3Xd& surface, const Eigen::Isom
   pose_ = pose;
 }
 
-void SampleClearance::record(Eigen::Index i, double signed_distance) {
+void SampleClearance::record(Eigen::Index i, double signed_distance, int triangle) {
   const auto k = static_cast<std::size_t>(i);
+  triangle_[k] = triangle;
   clearance_[k] = std::abs(signed_distance);
   travel_at_[k] = travel_;
   side_[k] = signed_distance > 0.0 ? 1 : (signed_distance < 0.0 ? -1 : 0);

@@ -50,11 +50,14 @@ class SampleClearance {
     return side_[static_cast<std::size_t>(i)] < 0 && bound(i) > depth;
   }
   /// Whether sample i is known to be farther than `distance` from the surface, on either side.
-  bool far_by(Eigen::Index i, double distance) const {
-    return bound(i) > distance;
-  }
-  /// A query's signed distance for sample i in the current state (negative inside).
-  void record(Eigen::Index i, double signed_distance);
+  bool far_by(Eigen::Index i, double distance) const { return bound(i) > distance; }
+  /// A query's signed distance for sample i in the current state (negative inside), and the
+  /// surface triangle nearest to it.
+  void record(Eigen::Index i, double signed_distance, int triangle);
+  /// The triangle sample i's last query found nearest (-1: none yet): where the next query of
+  /// that sample starts (MeshDistance::nearest_within's hint), since samples move little from
+  /// step to step.
+  int hint(Eigen::Index i) const { return triangle_[static_cast<std::size_t>(i)]; }
   /// What a query bounded by `distance` (MeshDistance::nearest_within) found for sample i: no
   /// surface point nearer, side unknown (only far_by() can use it).
   void record_far(Eigen::Index i, double distance);
@@ -69,10 +72,11 @@ class SampleClearance {
   Eigen::Matrix3Xd surface_;  ///< the last state's surface
   Eigen::Isometry3d pose_ = Eigen::Isometry3d::Identity();
   bool have_state_ = false;
-  double travel_ = 0.0;  ///< m: the largest moves summed over every state change
-  std::vector<double> clearance_;   ///< per sample: |d| at its last query
-  std::vector<double> travel_at_;   ///< per sample: travel_ at its last query
-  std::vector<signed char> side_;   ///< per sample: +1 outside, -1 inside, 0 unknown
+  double travel_ = 0.0;            ///< m: the largest moves summed over every state change
+  std::vector<double> clearance_;  ///< per sample: |d| at its last query
+  std::vector<double> travel_at_;  ///< per sample: travel_ at its last query
+  std::vector<signed char> side_;  ///< per sample: +1 outside, -1 inside, 0 unknown
+  std::vector<int> triangle_;      ///< per sample: the nearest triangle its last query found
 };
 
 }  // namespace softbench::collision

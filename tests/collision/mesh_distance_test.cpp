@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <random>
@@ -258,6 +259,72 @@ TEST(MeshDistance, NearestWithinARadiusIsTheNearestPointOrNothing) {
     EXPECT_EQ(bounded.tri_tests, 0);
     EXPECT_GT(unbounded.tri_tests, 0);
   }
+}
+
+// A hint (the triangle an earlier query found) changes what a query costs, never what it finds:
+// the same distance and side from a right, a stale or a wrong hint.
+TEST(MeshDistance, AHintChangesTheCostOfAQueryNotItsAnswer) {
+  std::mt19937 rng(26);
+  std::uniform_int_distribution<int> any_axis(0, 2);
+  for (const NamedMesh& named : closed_meshes()) {
+    SCOPED_TRACE(named.name);
+    const MeshDistance distance(named.mesh.vertices, named.mesh.triangles);
+    std::uniform_int_distribution<int> any_triangle(0, named.mesh.num_triangles() - 1);
+    for (const Eigen::Vector3d& p : query_points(named.mesh, named.mesh.vertices, rng)) {
+      const MeshDistance::Nearest earlier = distance.nearest(p);
+      Eigen::Vector3d moved = p;
+      moved(any_axis(rng)) += 1e-3;
+      constexpr double kRadius = 0.3;
+      const std::optional<MeshDistance::Nearest> plain = distance.nearest_within(moved, kRadius);
+      for (const int hint : {earlier.triangle, any_triangle(rng)}) {
+        const std::optional<MeshDistance::Nearest> hinted =
+            distance.nearest_within(moved, kRadius, nullptr, hint);
+        ASSERT_EQ(hinted.has_value(), plain.has_value()) << moved.transpose();
+        if (plain) {
+          EXPECT_NEAR(hinted->distance, plain->distance, kRoundoff) << moved.transpose();
+          EXPECT_NEAR(hinted->signed_distance, plain->signed_distance, kRoundoff);
+          EXPECT_LT((hinted->point - plain->point).norm(), kRoundoff);
+        }
+      }
+      const MeshDistance::Nearest unbounded = distance.nearest(moved, nullptr, any_triangle(rng));
+      EXPECT_NEAR(unbounded.signed_distance, distance.nearest(moved).signed_distance, kRoundoff);
+    }
+  }
+}
+
+// What the hint is for: a point some way off a finely meshed surface, searched within a radius
+// larger than its distance (the contact's instrument points a few millimetres inside or outside
+// the tissue, searched within the fold depth), and moved a little since the query that found its
+// hint. Started from the hint's distance, the descent opens only the nodes nearer than that,
+// where from the radius it opens those nearer than the best point found so far, which the
+// nearer-child-first order finds only as it goes.
+TEST(MeshDistance, AHintFromANearbyQueryOpensFewerNodes) {
+  std::mt19937 rng(27);
+  TriMesh sphere = icosphere(4, 1.0);
+  perturb_radially(sphere, 0.25, rng);
+  const MeshDistance distance(sphere.vertices, sphere.triangles, BvhSchedule::liver());
+  std::normal_distribution<double> normal;
+  std::uniform_real_distribution<double> offset(-0.2, 0.2);
+  std::int64_t hinted_tests = 0, plain_tests = 0;
+  for (int i = 0; i < 500; ++i) {
+    const Eigen::Vector3d direction =
+        Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+    const Eigen::Vector3d p = (1.0 + offset(rng)) * direction;
+    const int hint = distance.nearest(p).triangle;
+    const Eigen::Vector3d moved = p + 0.01 * Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+    QueryStats plain, hinted;
+    const std::optional<MeshDistance::Nearest> without =
+        distance.nearest_within(moved, 0.5, &plain);
+    const std::optional<MeshDistance::Nearest> with =
+        distance.nearest_within(moved, 0.5, &hinted, hint);
+    ASSERT_TRUE(without && with);
+    EXPECT_NEAR(with->distance, without->distance, kRoundoff);
+    hinted_tests += hinted.node_visits + hinted.tri_tests;
+    plain_tests += plain.node_visits + plain.tri_tests;
+  }
+  // 0.85 here; on the liver pressed into by the probe, 0.55 (the tissue's samples lie deeper).
+  EXPECT_LT(static_cast<double>(hinted_tests), 0.9 * static_cast<double>(plain_tests))
+      << hinted_tests << " node and triangle tests with hints, " << plain_tests << " without";
 }
 
 TEST(MeshDistance, UpdateFollowsMovedVertices) {

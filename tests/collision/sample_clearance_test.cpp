@@ -63,7 +63,7 @@ TEST(SampleClearance, ItsBoundsHoldWhileTheSurfaceAndTheInstrumentMove) {
         if (i % 2 == 0 && std::abs(exact) >= 0.3) {
           clearance.record_far(i, 0.3);
         } else {
-          clearance.record(i, exact);
+          clearance.record(i, exact, -1);
         }
         ++queried;
       }
@@ -83,12 +83,14 @@ TEST(SampleClearance, KnowsNothingBeforeAQueryOrAfterTheSurfaceChangesSize) {
   EXPECT_FALSE(clearance.outside_by(0, 0.0));
   EXPECT_FALSE(clearance.inside_by(0, 0.0));
   EXPECT_FALSE(clearance.far_by(0, 0.0));
+  EXPECT_EQ(clearance.hint(0), -1);  // no triangle found yet
   // Far by 0.4 on a side not known: neither side is claimed.
   clearance.record_far(0, 0.4);
   EXPECT_TRUE(clearance.far_by(0, 0.39));
   EXPECT_FALSE(clearance.outside_by(0, 0.0));
   EXPECT_FALSE(clearance.inside_by(0, 0.0));
-  clearance.record(0, 0.5);
+  clearance.record(0, 0.5, 3);
+  EXPECT_EQ(clearance.hint(0), 3);
   EXPECT_TRUE(clearance.outside_by(0, 0.5));
   EXPECT_FALSE(clearance.outside_by(0, 0.6));
   // A surface move of 0.2 lowers the bound by at least that.
@@ -100,6 +102,7 @@ TEST(SampleClearance, KnowsNothingBeforeAQueryOrAfterTheSurfaceChangesSize) {
   // Another surface (a different vertex count): no earlier state to measure moves from.
   clearance.advance(Eigen::Matrix3Xd::Zero(3, 5), Eigen::Isometry3d::Identity());
   EXPECT_FALSE(clearance.outside_by(0, 0.0));
+  EXPECT_EQ(clearance.hint(0), -1);  // nor a triangle of it
 }
 
 }  // namespace
