@@ -8,21 +8,30 @@
 
 namespace softbench::collision {
 
-/// m: the farthest any vertex moved from `from` to `to` (3 x #V each, the same vertices).
-double largest_move(const Eigen::Matrix3Xd& from, const Eigen::Matrix3Xd& to);
+/// m: the farthest any vertex moved from `from` to `to` (3 x #V each, the same vertices),
+/// relative to a common `shift`: max |to_v - from_v - shift|.
+double largest_move(const Eigen::Matrix3Xd& from,
+                    const Eigen::Matrix3Xd& to,
+                    const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
 /// m: the farthest any of a rigid body's `vertices` (its own frame) moves from pose `from` to
-/// pose `to`; no point on the surface they span moves farther (a rigid motion is affine).
+/// pose `to`, relative to `shift`; no point on the surface they span moves farther (a rigid
+/// motion is affine).
 double largest_move(const Eigen::Matrix3Xd& vertices,
                     const Eigen::Isometry3d& from,
-                    const Eigen::Isometry3d& to);
+                    const Eigen::Isometry3d& to,
+                    const Eigen::Vector3d& shift = Eigen::Vector3d::Zero());
 
 /// What is known, without a query, of how far each of a rigid instrument's sample points is
 /// from a deforming closed surface (the tissue's) and on which side: conservative advancement.
 /// A nearest-point query gives a sample's signed distance d; until the surface or the
-/// instrument moves, |d| stays, and each move changes it by at most the largest move of any
-/// surface vertex (a surface point moves as a blend of its triangle's corners) plus the largest
-/// move of any instrument vertex (a rigid motion moves a point on the instrument's surface no
-/// farther than its farthest-moving vertex). So |d| minus the moves summed since the query is
+/// instrument moves, |d| stays, and each move changes it by at most the largest move of a
+/// surface point relative to the sample. Measured against any common shift u (the instrument's
+/// origin's move), |dx - ds| <= |dx - u| + |ds - u|: at most the largest move of any surface
+/// vertex less u (a surface point moves as a blend of its triangle's corners) plus the largest
+/// of any instrument vertex less u (a rigid motion moves a point on the instrument's surface no
+/// farther than its farthest-moving vertex). With u = 0 that is the sum of the two largest
+/// moves; with the tool's own shift, tissue carried along by the tool (the probe pressing, the
+/// grasp pulling) spends little of the bound. So |d| minus the moves summed since the query is
 /// a lower bound, and while it is positive the sample has not crossed the surface: its side is
 /// the query's. A sample far from the surface is queried again only once the summed moves could
 /// have brought it near; on the liver pressed by the probe, most of the probe's points are

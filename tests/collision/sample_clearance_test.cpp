@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 namespace softbench::collision {
 namespace {
@@ -73,6 +74,52 @@ TEST(SampleClearance, ItsBoundsHoldWhileTheSurfaceAndTheInstrumentMove) {
   EXPECT_GT(known, queried);
   EXPECT_GT(inside_checks, 100);
   EXPECT_GT(far_checks, 100);
+}
+
+// Tissue carried along by the tool (pressed ahead of a probe, pulled by a grasp) keeps the
+// clearance it had: the bound spends the surface's and the tool's moves relative to the tool's
+// own shift, not their sum (which would spend twice the shift a state). Turning as well, the
+// tool spends only what the turn moves its vertices.
+TEST(SampleClearance, TissueCarriedAlongByTheToolKeepsItsClearance) {
+  const TriMesh tissue = test::icosphere(2, 1.0);
+  // Box corners within 0.36 of the tool's z axis, its bottom 0.5 above the unit sphere.
+  const TriMesh tool = test::box_surface(2, Eigen::Vector3d(0.3, 0.2, 0.4));
+  const Eigen::Vector3d start(0.0, 0.0, 1.5);
+  constexpr double kTurn = 0.01;  // rad a state
+  constexpr int kStates = 50;
+  for (const double turn : {0.0, kTurn}) {
+    SCOPED_TRACE(turn);
+    MeshDistance distance(tissue.vertices, tissue.triangles);
+    SampleClearance clearance(tool.vertices.cols(), tool.vertices);
+    std::vector<double> recorded(static_cast<std::size_t>(tool.vertices.cols()));
+    for (int state = 0; state < kStates; ++state) {
+      const Eigen::Vector3d shift(0.02 * state, -0.01 * state, 0.0);
+      const Eigen::Matrix3Xd surface = tissue.vertices.colwise() + shift;
+      distance.update(surface);
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.translate(start + shift);
+      pose.rotate(Eigen::AngleAxisd(turn * state, Eigen::Vector3d::UnitZ()));
+      clearance.advance(surface, pose);
+      for (Eigen::Index i = 0; i < tool.vertices.cols(); ++i) {
+        const double exact =
+            distance.nearest(pose * Eigen::Vector3d(tool.vertices.col(i))).signed_distance;
+        if (state == 0) {
+          clearance.record(i, exact, -1);
+          recorded[static_cast<std::size_t>(i)] = exact;
+          continue;
+        }
+        for (const double d : {0.0, 0.1, 0.3}) {
+          if (clearance.outside_by(i, d)) {
+            EXPECT_GE(exact, d) << "state " << state << " sample " << i;
+          }
+        }
+        // Spent: round-off alone without the turn; with it, at most 0.36 kTurn a state.
+        const double spent = turn == 0.0 ? 1e-9 : 0.36 * kTurn * state * 1.01;
+        EXPECT_TRUE(clearance.outside_by(i, recorded[static_cast<std::size_t>(i)] - spent))
+            << "state " << state << " sample " << i;
+      }
+    }
+  }
 }
 
 TEST(SampleClearance, KnowsNothingBeforeAQueryOrAfterTheSurfaceChangesSize) {
