@@ -207,6 +207,19 @@ double InstrumentContact::cull_radius() const {
   return kSlack * (tissue_motion_ + tool_motion_ + 2.0 * options_.margin + kFoldDepth * spacing_);
 }
 
+std::optional<MeshDistance::Nearest> InstrumentContact::search_sample(Eigen::Index i,
+                                                                      const Eigen::Vector3d& point,
+                                                                      double radius) {
+  const std::optional<MeshDistance::Nearest> found =
+      tissue_distance_.nearest_within(point, radius, nullptr, clearance_.hint(i));
+  if (found) {
+    clearance_.record(i, found->signed_distance, found->triangle);
+  } else {
+    clearance_.record_far(i, radius);
+  }
+  return found;
+}
+
 double InstrumentContact::instrument_distance(const Eigen::Isometry3d& pose,
                                               const Eigen::Vector3d& point) const {
   return instrument_distance_.nearest(pose.inverse() * point).signed_distance;
@@ -303,14 +316,11 @@ void InstrumentContact::resolve_instrument_vertices(const Eigen::Isometry3d& pos
     }
     // A point farther from the surface than the radius, on either side, pushes nothing: the
     // query opens only the tree's nodes within it.
-    const std::optional<MeshDistance::Nearest> found =
-        tissue_distance_.nearest_within(p, radius, nullptr, clearance_.hint(i));
+    const std::optional<MeshDistance::Nearest> found = search_sample(i, p, radius);
     if (!found) {
-      clearance_.record_far(i, radius);
       continue;
     }
     const MeshDistance::Nearest& nearest = *found;
-    clearance_.record(i, nearest.signed_distance, nearest.triangle);
     const Eigen::Vector3i corners = tissue_surface_.col(nearest.triangle);
     const bool pressed =
         was_pressed(corners(0)) || was_pressed(corners(1)) || was_pressed(corners(2));
@@ -496,14 +506,11 @@ bool InstrumentContact::hold_tissue_around_points(const Eigen::Isometry3d& pose,
     // held on it, and holding their triangles fully would make the contact stick). One deeper
     // than the radius is behind a fold, one outside by as much is out: neither needs its nearest
     // point.
-    const std::optional<MeshDistance::Nearest> found =
-        tissue_distance_.nearest_within(p, radius, nullptr, clearance_.hint(i));
+    const std::optional<MeshDistance::Nearest> found = search_sample(i, p, radius);
     if (!found) {
-      clearance_.record_far(i, radius);
       continue;
     }
     const MeshDistance::Nearest& nearest = *found;
-    clearance_.record(i, nearest.signed_distance, nearest.triangle);
     if (nearest.signed_distance >= 0.0) {
       continue;
     }
@@ -581,9 +588,8 @@ ContactReport InstrumentContact::measure(const Eigen::Isometry3d& pose,
       continue;
     }
     const MeshDistance::Nearest nearest = tissue_distance_.nearest(p, nullptr, clearance_.hint(i));
-    const double signed_distance = nearest.signed_distance;
-    clearance_.record(i, signed_distance, nearest.triangle);
-    const double depth = -signed_distance;
+    clearance_.record(i, nearest.signed_distance, nearest.triangle);
+    const double depth = -nearest.signed_distance;
     if (depth > 0.0) {
       report.max_penetration = std::max(report.max_penetration, depth);
     }

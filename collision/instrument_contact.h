@@ -48,6 +48,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <optional>
 #include <vector>
 
 namespace softbench::collision {
@@ -147,6 +148,12 @@ class InstrumentContact {
   /// m: how far from the tissue's surface an instrument point can still push it or be checked
   /// for a fold, this step (see the definition).
   double cull_radius() const;
+  /// The tissue's surface point nearest to instrument sample i at `point` (world) within
+  /// `radius`, searched from the triangle the sample's last search found; what it found (or
+  /// that nothing is that near) is recorded in clearance_.
+  std::optional<MeshDistance::Nearest> search_sample(Eigen::Index i,
+                                                     const Eigen::Vector3d& point,
+                                                     double radius);
   bool follows_withdrawal(int vertex,
                           const Eigen::Vector3d& local_point,
                           const Eigen::Isometry3d& pose) const;

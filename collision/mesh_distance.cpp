@@ -130,19 +130,22 @@ MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
   if (tree_.empty()) {
     return best;
   }
-  if (hint >= 0) {
-    const TrianglePoint candidate = closest_point_on_triangle(
-        point, positions_.col(triangles_(0, hint)), positions_.col(triangles_(1, hint)),
-        positions_.col(triangles_(2, hint)));
+  // Triangle `triangle` with corners a, b, c becomes the best if it is nearer.
+  const auto consider = [&](int triangle, const auto& a, const auto& b, const auto& c) {
+    const TrianglePoint candidate = closest_point_on_triangle(point, a, b, c);
     ++counts.tri_tests;
     const double squared = (candidate.point - point).squaredNorm();
     if (squared < best_squared) {
       best_squared = squared;
-      best.triangle = hint;
+      best.triangle = triangle;
       best.point = candidate.point;
       best.barycentric = candidate.barycentric;
       best.feature = candidate.feature;
     }
+  };
+  if (hint >= 0) {
+    consider(hint, positions_.col(triangles_(0, hint)), positions_.col(triangles_(1, hint)),
+             positions_.col(triangles_(2, hint)));
   }
   // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
   std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;
@@ -168,16 +171,7 @@ MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
             >= best_squared) {
           continue;
         }
-        const TrianglePoint candidate = closest_point_on_triangle(point, a, b, c);
-        ++counts.tri_tests;
-        const double squared = (candidate.point - point).squaredNorm();
-        if (squared < best_squared) {
-          best_squared = squared;
-          best.triangle = tree_.slot_triangle(slot);
-          best.point = candidate.point;
-          best.barycentric = candidate.barycentric;
-          best.feature = candidate.feature;
-        }
+        consider(tree_.slot_triangle(slot), a, b, c);
       }
       continue;
     }
