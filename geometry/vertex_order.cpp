@@ -79,6 +79,91 @@ VertexOrder reverse_cuthill_mckee(const Eigen::Matrix4Xi& tets, int num_vertices
   return order;
 }
 
+PartitionedOrder partitioned(const Eigen::Matrix4Xi& tets, int num_vertices, int parts) {
+  PartitionedOrder result;
+  const auto n = static_cast<std::size_t>(num_vertices);
+  if (parts <= 1 || num_vertices < 4 * parts) {
+    result.order.new_of_old.resize(n);
+    std::iota(result.order.new_of_old.begin(), result.order.new_of_old.end(), 0);
+    result.order.old_of_new = result.order.new_of_old;
+    result.offsets = {0, num_vertices, num_vertices};
+    return result;
+  }
+  // Each vertex's lowest-numbered neighbour: a vertex is in the separator when that one lies
+  // before the start of its own range.
+  std::vector<int> lowest(n);
+  std::iota(lowest.begin(), lowest.end(), 0);
+  const Eigen::Matrix2Xi edges = unique_edges(tets);
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    const auto i = static_cast<std::size_t>(edges(0, e));
+    const auto j = static_cast<std::size_t>(edges(1, e));
+    lowest[i] = std::min(lowest[i], edges(1, e));
+    lowest[j] = std::min(lowest[j], edges(0, e));
+  }
+  const auto count = static_cast<std::size_t>(parts);
+  std::vector<int> cuts(count + 1);  // range k is [cuts[k], cuts[k + 1])
+  for (std::size_t k = 0; k <= count; ++k) {
+    cuts[k] =
+        static_cast<int>(static_cast<long long>(num_vertices) * static_cast<long long>(k) / parts);
+  }
+  std::vector<char> separator(n, 0);
+  const auto mark = [&] {
+    int separated = 0;
+    for (std::size_t k = 1; k < count; ++k) {
+      for (int v = cuts[k]; v < cuts[k + 1]; ++v) {
+        separator[static_cast<std::size_t>(v)] = lowest[static_cast<std::size_t>(v)] < cuts[k];
+      }
+    }
+    for (int v = 0; v < cuts[1]; ++v) {
+      separator[static_cast<std::size_t>(v)] = 0;
+    }
+    for (const char s : separator) {
+      separated += s;
+    }
+    return separated;
+  };
+  // Move each cut until the parts before it hold their share of the vertices outside the
+  // separator (a few rounds: moving a cut moves its front, which is about as large).
+  for (int round = 0; round < 8; ++round) {
+    const int share = (num_vertices - mark()) / parts;
+    std::vector<int> kept_before(n + 1, 0);  // vertices outside the separator before v
+    for (std::size_t v = 0; v < n; ++v) {
+      kept_before[v + 1] = kept_before[v] + (separator[v] == 0 ? 1 : 0);
+    }
+    for (std::size_t k = 1; k < count; ++k) {
+      const int wanted = share * static_cast<int>(k);
+      const int moved = cuts[k] + (wanted - kept_before[static_cast<std::size_t>(cuts[k])]);
+      cuts[k] = std::clamp(moved, cuts[k - 1] + 1, num_vertices - 1);
+    }
+  }
+  mark();
+  result.offsets.push_back(0);
+  result.order.old_of_new.reserve(n);
+  for (std::size_t k = 0; k < count; ++k) {
+    for (int v = cuts[k]; v < cuts[k + 1]; ++v) {
+      if (separator[static_cast<std::size_t>(v)] == 0) {
+        result.order.old_of_new.push_back(v);
+      }
+    }
+    if (static_cast<int>(result.order.old_of_new.size()) == result.offsets.back()) {
+      return partitioned(tets, num_vertices, 1);  // an empty part: too small a mesh to cut
+    }
+    result.offsets.push_back(static_cast<int>(result.order.old_of_new.size()));
+  }
+  for (std::size_t v = 0; v < n; ++v) {
+    if (separator[v] != 0) {
+      result.order.old_of_new.push_back(static_cast<int>(v));
+    }
+  }
+  result.offsets.push_back(num_vertices);
+  result.order.new_of_old.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    result.order.new_of_old[static_cast<std::size_t>(result.order.old_of_new[i])] =
+        static_cast<int>(i);
+  }
+  return result;
+}
+
 TetMesh renumbered(const TetMesh& mesh, const VertexOrder& order) {
   MeshData data;
   data.source = "renumbered mesh";

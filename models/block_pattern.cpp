@@ -12,7 +12,7 @@
 namespace softbench {
 
 BlockPattern::BlockPattern(int num_vertices, const Eigen::Matrix2Xi& edges)
-    : num_vertices_(num_vertices) {
+    : num_vertices_(num_vertices), part_offsets_{0, num_vertices, num_vertices} {
   // Every vertex's block columns: itself and its edge neighbours, sorted.
   std::vector<std::vector<int>> lists(static_cast<std::size_t>(num_vertices));
   for (int v = 0; v < num_vertices; ++v) {
@@ -83,6 +83,31 @@ BlockPattern::BlockPattern(int num_vertices, const Eigen::Matrix2Xi& edges)
     edge_blocks_.push_back(
         {block_entries(edges(0, e), edges(1, e)), block_entries(edges(1, e), edges(0, e))});
   }
+}
+
+void BlockPattern::set_parts(std::vector<int> offsets) {
+  const auto fail = [](const std::string& why) {
+    throw std::invalid_argument("BlockPattern::set_parts: " + why);
+  };
+  if (offsets.size() < 3 || offsets.front() != 0 || offsets.back() != num_vertices_
+      || !std::is_sorted(offsets.begin(), offsets.end())) {
+    fail("the offsets must rise from 0 to the vertex count, a part at least and the separator");
+  }
+  const auto parts = static_cast<int>(offsets.size()) - 2;
+  const int separator = offsets[static_cast<std::size_t>(parts)];
+  for (int part = 0; part < parts; ++part) {
+    const int first = offsets[static_cast<std::size_t>(part)];
+    const int last = offsets[static_cast<std::size_t>(part) + 1];
+    for (int v = first; v < last; ++v) {
+      for (const int n : neighbours(v)) {
+        if ((n < first || n >= last) && n < separator) {
+          fail("vertices " + std::to_string(v) + " and " + std::to_string(n)
+               + " are coupled across two parts");
+        }
+      }
+    }
+  }
+  part_offsets_ = std::move(offsets);
 }
 
 BlockEntries BlockPattern::column_block(int vertex, int slot) const {

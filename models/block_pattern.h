@@ -42,6 +42,15 @@ class BlockPattern {
   int num_vertices() const { return num_vertices_; }
   Eigen::Index size() const { return 3 * static_cast<Eigen::Index>(num_vertices_); }
 
+  /// Vertex ranges no block joins (PartitionedOrder::offsets: `parts` ranges, then a separator
+  /// that may couple to any vertex), for Gauss-Seidel sweeps over the parts side by side. Throws
+  /// std::invalid_argument if the offsets do not cover the vertices in order or a block joins
+  /// two parts. The default: one part, an empty separator.
+  void set_parts(std::vector<int> offsets);
+  /// parts() + 2 offsets: part k is [offsets[k], offsets[k + 1]), the separator the last range.
+  std::span<const int> part_offsets() const { return part_offsets_; }
+  int parts() const { return static_cast<int>(part_offsets_.size()) - 2; }
+
   /// The matrix with the pattern; all values zero until written.
   Eigen::SparseMatrix<double>& matrix() { return matrix_; }
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
@@ -169,6 +178,7 @@ class BlockPattern {
   std::vector<int> mirror_slots_;       ///< per neighbours_ entry (c, n): c's slot in n's list
   std::vector<BlockEntries> vertex_blocks_;
   std::vector<std::array<BlockEntries, 2>> edge_blocks_;
+  std::vector<int> part_offsets_;
 };
 
 }  // namespace softbench

@@ -3,9 +3,54 @@
 
 #include "models/system_solver.h"
 
+#include <array>
 #include <cmath>
+#include <cstddef>
+#include <span>
+#include <stdexcept>
 
 namespace softbench {
+
+/// At most this many vertex ranges in a loop over_ranges() runs side by side.
+inline constexpr int kMaxRanges = 17;
+
+/// Two sums of a loop over vertices.
+struct RangeSums {
+  double first = 0.0;
+  double second = 0.0;
+};
+
+/// body(first, last) over the vertex ranges [offsets[k], offsets[k + 1]), side by side (an
+/// OpenMP thread each) when there are several, their sums added in the ranges' order: the same
+/// whatever the thread count. One non-empty range runs on the calling thread. The ranges must not
+/// share the values a body writes (a vector loop over vertices; BlockPattern::part_offsets() for a
+/// sweep's parts).
+template <class Body>
+RangeSums over_ranges(std::span<const int> offsets, const Body& body) {
+  const auto ranges = static_cast<int>(offsets.size()) - 1;
+  if (ranges > kMaxRanges) {
+    throw std::invalid_argument("over_ranges: more than kMaxRanges ranges");
+  }
+  int filled = 0;
+  for (int k = 0; k < ranges; ++k) {
+    filled += offsets[static_cast<std::size_t>(k) + 1] > offsets[static_cast<std::size_t>(k)];
+  }
+  std::array<RangeSums, kMaxRanges> sums{};
+  // Dynamic: the ranges differ in size (a sweep's separator is small), and whichever thread is
+  // free takes the next. A parallel region for one range (a small mesh's whole body and its
+  // empty separator) would only wait: under a busy second core, for a descheduled thread.
+#pragma omp parallel for schedule(dynamic, 1) if (filled > 1)
+  for (int k = 0; k < ranges; ++k) {
+    sums[static_cast<std::size_t>(k)] =
+        body(offsets[static_cast<std::size_t>(k)], offsets[static_cast<std::size_t>(k) + 1]);
+  }
+  RangeSums total;
+  for (int k = 0; k < ranges; ++k) {
+    total.first += sums[static_cast<std::size_t>(k)].first;
+    total.second += sums[static_cast<std::size_t>(k)].second;
+  }
+  return total;
+}
 
 /// r . z and |r|^2 of the start.
 struct EisenstatStart {
@@ -15,29 +60,33 @@ struct EisenstatStart {
 
 /// The start of eisenstat_iterations from y = (D + L)^-1 (b - U x0): r^ = y - x0 (which by
 /// A = (D + L) + U is (D + L)^-1 (b - A x0)), z = D r^ and p = z. `y` may be `r` itself.
+/// `ranges`: vertex ranges the vector loops may run on side by side (over_ranges()).
 template <class ApplyD>
-EisenstatStart eisenstat_start(int num_vertices,
+EisenstatStart eisenstat_start(std::span<const int> ranges,
                                const double* y,
                                const double* x0,
                                double* r,
                                double* z,
                                double* p,
                                const ApplyD& apply_d) {
-  EisenstatStart start;
-  for (int v = 0; v < num_vertices; ++v) {
-    const double rv[3] = {y[3 * v] - x0[3 * v], y[3 * v + 1] - x0[3 * v + 1],
-                          y[3 * v + 2] - x0[3 * v + 2]};
-    double zv[3];
-    apply_d(v, rv, zv);
-    for (int a = 0; a < 3; ++a) {
-      r[3 * v + a] = rv[a];
-      z[3 * v + a] = zv[a];
-      p[3 * v + a] = zv[a];
+  const RangeSums sums = over_ranges(ranges, [&](int first, int last) {
+    RangeSums part;
+    for (int v = first; v < last; ++v) {
+      const double rv[3] = {y[3 * v] - x0[3 * v], y[3 * v + 1] - x0[3 * v + 1],
+                            y[3 * v + 2] - x0[3 * v + 2]};
+      double zv[3];
+      apply_d(v, rv, zv);
+      for (int a = 0; a < 3; ++a) {
+        r[3 * v + a] = rv[a];
+        z[3 * v + a] = zv[a];
+        p[3 * v + a] = zv[a];
+      }
+      part.first += rv[0] * zv[0] + rv[1] * zv[1] + rv[2] * zv[2];
+      part.second += rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
     }
-    start.rz += rv[0] * zv[0] + rv[1] * zv[1] + rv[2] * zv[2];
-    start.residual_squared += rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
-  }
-  return start;
+    return part;
+  });
+  return {sums.first, sums.second};
 }
 
 /// The iterations of conjugate gradients preconditioned by symmetric Gauss-Seidel (SSOR with
@@ -48,12 +97,13 @@ EisenstatStart eisenstat_start(int num_vertices,
 /// x^ back into x = (D + U)^-1 x^.
 ///
 /// `sweeps(beta)` sets p = z + beta p and q = A^ p (the two sweeps) and returns p . q.
-/// `apply_d(v, in, out)` sets out = D_v in for vertex v's 3x3 block. Vectors are 3 per vertex.
+/// `apply_d(v, in, out)` sets out = D_v in for vertex v's 3x3 block. Vectors are 3 per vertex;
+/// their loops run over `ranges` (over_ranges()).
 /// The loop stops once the energy-norm estimate meets `tolerance` (EnergyErrorEstimate), the
 /// residual |r^| is at most `roundoff`, r^ . z is zero, or at `max_iterations`; `report` gets
 /// the iterations, the estimate and whether it converged.
 template <class Sweeps, class ApplyD>
-void eisenstat_iterations(int num_vertices,
+void eisenstat_iterations(std::span<const int> ranges,
                           double* x_hat,
                           double* r,
                           double* z,
@@ -76,24 +126,28 @@ void eisenstat_iterations(int num_vertices,
     }
     const double alpha = rz / curvature;
     report.error = estimate.add(report.iterations, alpha * rz);
-    double rz_next = 0.0;
-    double residual_squared = 0.0;
-    for (int v = 0; v < num_vertices; ++v) {
-      // Kept in locals: a vector load of values just stored one by one would stall.
-      double rv[3];
-      for (int a = 0; a < 3; ++a) {
-        x_hat[3 * v + a] += alpha * p[3 * v + a];
-        rv[a] = r[3 * v + a] - alpha * q[3 * v + a];
-        r[3 * v + a] = rv[a];
+    const RangeSums sums = over_ranges(ranges, [&](int first, int last) {
+      RangeSums part;
+      for (int v = first; v < last; ++v) {
+        // Kept in locals: a vector load of values just stored one by one would stall.
+        double rv[3];
+        for (int a = 0; a < 3; ++a) {
+          x_hat[3 * v + a] += alpha * p[3 * v + a];
+          rv[a] = r[3 * v + a] - alpha * q[3 * v + a];
+          r[3 * v + a] = rv[a];
+        }
+        double zv[3];
+        apply_d(v, rv, zv);
+        z[3 * v] = zv[0];
+        z[3 * v + 1] = zv[1];
+        z[3 * v + 2] = zv[2];
+        part.first += rv[0] * zv[0] + rv[1] * zv[1] + rv[2] * zv[2];
+        part.second += rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
       }
-      double zv[3];
-      apply_d(v, rv, zv);
-      z[3 * v] = zv[0];
-      z[3 * v + 1] = zv[1];
-      z[3 * v + 2] = zv[2];
-      rz_next += rv[0] * zv[0] + rv[1] * zv[1] + rv[2] * zv[2];
-      residual_squared += rv[0] * rv[0] + rv[1] * rv[1] + rv[2] * rv[2];
-    }
+      return part;
+    });
+    const double rz_next = sums.first;
+    const double residual_squared = sums.second;
     if (std::sqrt(residual_squared) <= roundoff || rz_next == 0.0
         || estimate.met(report.iterations, tolerance)) {
       report.converged = true;

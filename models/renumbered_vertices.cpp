@@ -7,10 +7,21 @@
 
 namespace softbench {
 
-RenumberedMesh renumbered_for_locality(const TetMesh& mesh) {
+RenumberedMesh renumbered_for_locality(const TetMesh& mesh, int parts) {
   VertexOrder order = reverse_cuthill_mckee(mesh.tets(), mesh.num_vertices());
   TetMesh inner = renumbered(mesh, order);
-  return RenumberedMesh{std::move(order), std::move(inner)};
+  PartitionedOrder cut = partitioned(inner.tets(), inner.num_vertices(), parts);
+  if (cut.offsets.size() > 3) {
+    // Compose: old vertex v is RCM's new_of_old[v], which the cut numbers anew.
+    for (int& index : order.new_of_old) {
+      index = cut.order.new_of_old[static_cast<std::size_t>(index)];
+    }
+    for (std::size_t v = 0; v < order.new_of_old.size(); ++v) {
+      order.old_of_new[static_cast<std::size_t>(order.new_of_old[v])] = static_cast<int>(v);
+    }
+    inner = renumbered(mesh, order);
+  }
+  return RenumberedMesh{std::move(order), std::move(inner), std::move(cut.offsets)};
 }
 
 void RenumberedVertices::to_inner(const Eigen::Matrix3Xd& outer, Eigen::Matrix3Xd& inner) const {

@@ -13,14 +13,17 @@
 
 namespace softbench {
 
-/// A mesh renumbered for a model's own use, and the order that did it.
+/// A mesh renumbered for a model's own use, the order that did it, and the ranges of the new
+/// numbering its sweeps may run side by side (PartitionedOrder::offsets).
 struct RenumberedMesh {
   VertexOrder order;
   TetMesh mesh;
+  std::vector<int> part_offsets;
 };
 
-/// `mesh` renumbered by reverse Cuthill-McKee (geometry/vertex_order.h).
-RenumberedMesh renumbered_for_locality(const TetMesh& mesh);
+/// `mesh` renumbered by reverse Cuthill-McKee and then, for `parts` > 1, cut into that many parts
+/// and a separator (geometry/vertex_order.h).
+RenumberedMesh renumbered_for_locality(const TetMesh& mesh, int parts = 1);
 
 /// A model that numbers the vertices its own way behind the SoftBody interface, whose vertices are
 /// the TetMesh's: what comes in (constraints, forces, states) is mapped to the model's numbering,

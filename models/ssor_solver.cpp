@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -52,42 +53,64 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
 bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
   // Column c's strips: sums(i, k) adds entry (n, i) of column (c, k) over the neighbours n, i.e.
   // (Z^T A)'s block at c, the transpose of (A Z)_c (A is symmetric); the strip of c itself is
-  // D_c. One pass over the values for both.
-  coarse_.setZero();
-  for (int c = 0; c < num_vertices_; ++c) {
-    const auto degree = static_cast<int>(a.neighbours(c).size());
-    const int own = a.own_slot(c);
-    const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
-    Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * static_cast<std::size_t>(c));
-    Eigen::Matrix3d block;
-    for (int k = 0; k < 3; ++k) {
-      double s0 = 0.0;
-      double s1 = 0.0;
-      double s2 = 0.0;
-      const double* strip = column + 3 * degree * k;
-      for (int slot = 0; slot < degree; ++slot) {
-        s0 += strip[3 * slot];
-        s1 += strip[3 * slot + 1];
-        s2 += strip[3 * slot + 2];
+  // D_c. One pass over the values for both, range by range (the pattern's parts and separator
+  // side by side), Z^T A Z summed in the ranges' order.
+  const std::span<const int> ranges = a.part_offsets();
+  const auto count = static_cast<int>(ranges.size()) - 1;
+  std::array<Eigen::Matrix3d, kMaxRanges> coarse_parts;
+  std::array<char, kMaxRanges> invertible_parts{};
+  const auto load_range = [&](int range) {
+    Eigen::Matrix3d coarse = Eigen::Matrix3d::Zero();
+    const auto index = static_cast<std::size_t>(range);
+    for (int c = ranges[index]; c < ranges[index + 1]; ++c) {
+      const auto degree = static_cast<int>(a.neighbours(c).size());
+      const int own = a.own_slot(c);
+      const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
+      Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * static_cast<std::size_t>(c));
+      Eigen::Matrix3d block;
+      for (int k = 0; k < 3; ++k) {
+        double s0 = 0.0;
+        double s1 = 0.0;
+        double s2 = 0.0;
+        const double* strip = column + 3 * degree * k;
+        for (int slot = 0; slot < degree; ++slot) {
+          s0 += strip[3 * slot];
+          s1 += strip[3 * slot + 1];
+          s2 += strip[3 * slot + 2];
+        }
+        sums(0, k) = s0;
+        sums(1, k) = s1;
+        sums(2, k) = s2;
+        block.col(k) = Eigen::Map<const Eigen::Vector3d>(strip + 3 * own);
       }
-      sums(0, k) = s0;
-      sums(1, k) = s1;
-      sums(2, k) = s2;
-      block.col(k) = Eigen::Map<const Eigen::Vector3d>(strip + 3 * own);
+      coarse += sums;
+      Eigen::Matrix3d inverse;
+      bool invertible = false;
+      block.computeInverseWithCheck(inverse, invertible);
+      if (!invertible || !inverse.allFinite()) {
+        invertible_parts[index] = 0;
+        return;
+      }
+      for (int k = 0; k < 9; ++k) {
+        diagonal_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
+            block(k / 3, k % 3);
+        inverse_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
+            inverse(k / 3, k % 3);
+      }
     }
-    coarse_ += sums;
-    Eigen::Matrix3d inverse;
-    bool invertible = false;
-    block.computeInverseWithCheck(inverse, invertible);
-    if (!invertible || !inverse.allFinite()) {
+    coarse_parts[index] = coarse;
+    invertible_parts[index] = 1;
+  };
+#pragma omp parallel for schedule(dynamic, 1) if (count > 2)
+  for (int range = 0; range < count; ++range) {
+    load_range(range);
+  }
+  coarse_.setZero();
+  for (int range = 0; range < count; ++range) {
+    if (invertible_parts[static_cast<std::size_t>(range)] == 0) {
       return false;
     }
-    for (int k = 0; k < 9; ++k) {
-      diagonal_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
-          block(k / 3, k % 3);
-      inverse_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
-          inverse(k / 3, k % 3);
-    }
+    coarse_ += coarse_parts[static_cast<std::size_t>(range)];
   }
   return true;
 }
@@ -125,91 +148,130 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   double* q = product_.data();
   double* t = sweep_.data();
   double* g = carry_.data();
+
+  // The sweeps run over the pattern's parts side by side (no block joins two of them) and over
+  // the separator alone: after the parts forward, before them backward, as a vertex's
+  // predecessors in its sweep are then done. One part: the sweeps in vertex order.
+  const std::span<const int> ranges = a.part_offsets();
+  const std::span<const int> parts = ranges.first(ranges.size() - 1);
+  const int separator = ranges[ranges.size() - 2];
   const int n = num_vertices_;
+  const auto forward = [&](const auto& rows) {
+    RangeSums sums = over_ranges(parts, rows);
+    const RangeSums rest = rows(separator, n);
+    sums.first += rest.first;
+    sums.second += rest.second;
+    return sums;
+  };
+  const auto backward = [&](const auto& rows) {
+    rows(separator, n);
+    over_ranges(parts, rows);
+  };
 
   // CG on the correction x - x0 from 0: its transform x^ = (D + U) (x - x0) starts at 0, and
   // r^ = (D + L)^-1 r0 (a forward sweep, into g). And the scale of round-off for the
   // transformed residual: |D^-1 b|, the transformed right-hand side's size up to the coupling of
   // the sweep (a floor at 1e-14 of it needs no more).
-  double transformed_rhs_squared = 0.0;
-  for (int c = 0; c < n; ++c) {
-    double lower[3];
-    a.neighbour_sum(c, /*lower=*/true, g, lower);
-    const double rest[3] = {bs[3 * c] - ax[3 * c] - lower[0],
-                            bs[3 * c + 1] - ax[3 * c + 1] - lower[1],
-                            bs[3 * c + 2] - ax[3 * c + 2] - lower[2]};
-    block_multiply(inverse + 9 * c, rest, g + 3 * c);
-    double scaled[3];
-    block_multiply(inverse + 9 * c, bs + 3 * c, scaled);
-    transformed_rhs_squared += dot3(scaled, scaled);
-  }
+  const double transformed_rhs_squared =
+      forward([&](int first, int last) {
+        RangeSums part;
+        for (int c = first; c < last; ++c) {
+          double lower[3];
+          a.neighbour_sum(c, /*lower=*/true, g, lower);
+          const double rest[3] = {bs[3 * c] - ax[3 * c] - lower[0],
+                                  bs[3 * c + 1] - ax[3 * c + 1] - lower[1],
+                                  bs[3 * c + 2] - ax[3 * c + 2] - lower[2]};
+          block_multiply(inverse + 9 * c, rest, g + 3 * c);
+          double scaled[3];
+          block_multiply(inverse + 9 * c, bs + 3 * c, scaled);
+          part.first += dot3(scaled, scaled);
+        }
+        return part;
+      }).first;
   transformed_.setZero();
   const auto apply_d = [d](int c, const double* in, double* out) {
     block_multiply(d + 9 * c, in, out);
   };
-  const EisenstatStart start = eisenstat_start(n, g, x_hat, r, z, p, apply_d);
+  const EisenstatStart start = eisenstat_start(ranges, g, x_hat, r, z, p, apply_d);
   const double roundoff = kRoundoff * std::sqrt(transformed_rhs_squared);
 
   report.converged = start.residual_squared == 0.0;
   const auto sweeps = [&](double beta) {
     // Backward: p = z + beta p, t = (D + U)^-1 p, and g = p - D t, which is U t.
-    for (int c = n - 1; c >= 0; --c) {
-      double pc[3];
-      for (int k = 0; k < 3; ++k) {
-        pc[k] = z[3 * c + k] + beta * p[3 * c + k];
-        p[3 * c + k] = pc[k];
+    backward([&](int first, int last) {
+      for (int c = last - 1; c >= first; --c) {
+        double pc[3];
+        for (int k = 0; k < 3; ++k) {
+          pc[k] = z[3 * c + k] + beta * p[3 * c + k];
+          p[3 * c + k] = pc[k];
+        }
+        double upper[3];
+        a.neighbour_sum(c, /*lower=*/false, t, upper);
+        const double rest[3] = {pc[0] - upper[0], pc[1] - upper[1], pc[2] - upper[2]};
+        block_multiply(inverse + 9 * c, rest, t + 3 * c);
+        g[3 * c] = upper[0];
+        g[3 * c + 1] = upper[1];
+        g[3 * c + 2] = upper[2];
       }
-      double upper[3];
-      a.neighbour_sum(c, /*lower=*/false, t, upper);
-      const double rest[3] = {pc[0] - upper[0], pc[1] - upper[1], pc[2] - upper[2]};
-      block_multiply(inverse + 9 * c, rest, t + 3 * c);
-      g[3 * c] = upper[0];
-      g[3 * c + 1] = upper[1];
-      g[3 * c + 2] = upper[2];
-    }
+      return RangeSums{};
+    });
     // Forward: y = (D + L)^-1 g (into g), q = A^ p = t + y, and p . q.
-    double curvature = 0.0;
-    for (int c = 0; c < n; ++c) {
-      double lower[3];
-      a.neighbour_sum(c, /*lower=*/true, g, lower);
-      const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
-                              g[3 * c + 2] - lower[2]};
-      double y[3];
-      block_multiply(inverse + 9 * c, rest, y);
-      g[3 * c] = y[0];
-      g[3 * c + 1] = y[1];
-      g[3 * c + 2] = y[2];
-      const double qc[3] = {t[3 * c] + y[0], t[3 * c + 1] + y[1], t[3 * c + 2] + y[2]};
-      q[3 * c] = qc[0];
-      q[3 * c + 1] = qc[1];
-      q[3 * c + 2] = qc[2];
-      curvature += dot3(p + 3 * c, qc);
-    }
-    return curvature;
+    return forward([&](int first, int last) {
+             RangeSums part;
+             for (int c = first; c < last; ++c) {
+               double lower[3];
+               a.neighbour_sum(c, /*lower=*/true, g, lower);
+               const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
+                                       g[3 * c + 2] - lower[2]};
+               double y[3];
+               block_multiply(inverse + 9 * c, rest, y);
+               g[3 * c] = y[0];
+               g[3 * c + 1] = y[1];
+               g[3 * c + 2] = y[2];
+               const double qc[3] = {t[3 * c] + y[0], t[3 * c + 1] + y[1], t[3 * c + 2] + y[2]};
+               q[3 * c] = qc[0];
+               q[3 * c + 1] = qc[1];
+               q[3 * c + 2] = qc[2];
+               part.first += dot3(p + 3 * c, qc);
+             }
+             return part;
+           })
+        .first;
   };
-  eisenstat_iterations(n, x_hat, r, z, p, q, start.rz, roundoff, options_.tolerance,
+  eisenstat_iterations(ranges, x_hat, r, z, p, q, start.rz, roundoff, options_.tolerance,
                        options_.max_iterations, estimate, report, sweeps, apply_d);
 
   // x = x0 + (D + U)^-1 x^ ...
-  for (int c = n - 1; c >= 0; --c) {
-    double upper[3];
-    a.neighbour_sum(c, /*lower=*/false, t, upper);
-    const double rest[3] = {x_hat[3 * c] - upper[0], x_hat[3 * c + 1] - upper[1],
-                            x_hat[3 * c + 2] - upper[2]};
-    block_multiply(inverse + 9 * c, rest, t + 3 * c);
-    for (int k = 0; k < 3; ++k) {
-      xs[3 * c + k] += t[3 * c + k];
+  backward([&](int first, int last) {
+    for (int c = last - 1; c >= first; --c) {
+      double upper[3];
+      a.neighbour_sum(c, /*lower=*/false, t, upper);
+      const double rest[3] = {x_hat[3 * c] - upper[0], x_hat[3 * c + 1] - upper[1],
+                              x_hat[3 * c + 2] - upper[2]};
+      block_multiply(inverse + 9 * c, rest, t + 3 * c);
+      for (int k = 0; k < 3; ++k) {
+        xs[3 * c + k] += t[3 * c + k];
+      }
     }
-  }
-  // ... the system's residual b - A x = (D + L) r^ (into q) ...
+    return RangeSums{};
+  });
+  // ... the system's residual b - A x = (D + L) r^ (into q; r^ is not written, so every range
+  // at once) ...
+  over_ranges(ranges, [&](int first, int last) {
+    for (int c = first; c < last; ++c) {
+      double lower[3];
+      a.neighbour_sum(c, /*lower=*/true, r, lower);
+      double own[3];
+      block_multiply(d + 9 * c, r + 3 * c, own);
+      for (int k = 0; k < 3; ++k) {
+        q[3 * c + k] = own[k] + lower[k];
+      }
+    }
+    return RangeSums{};
+  });
   Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
   for (int c = 0; c < n; ++c) {
-    double lower[3];
-    a.neighbour_sum(c, /*lower=*/true, r, lower);
-    double own[3];
-    block_multiply(d + 9 * c, r + 3 * c, own);
     for (int k = 0; k < 3; ++k) {
-      q[3 * c + k] = own[k] + lower[k];
       residual_sum(k) += q[3 * c + k];
     }
   }

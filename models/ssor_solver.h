@@ -27,9 +27,13 @@ namespace softbench {
 ///
 /// A sweep is a gather over vertex c's columns (the BlockPattern layout: row c of the symmetric
 /// matrix is column c), the neighbours before c's own slot for the forward sweep, after it for
-/// the backward one. The sweeps are sequential (each vertex needs its predecessors'), so a solve
-/// runs on one thread in a fixed order: bit-identical at any thread count. The corotational FEM
-/// measures it against Jacobi-PCG per mesh size (its `preconditioner` parameter).
+/// the backward one. A sweep is sequential (each vertex needs its predecessors'), but not across
+/// the pattern's parts (BlockPattern::set_parts(): vertex ranges no block joins, then a
+/// separator): forward, the parts side by side and then the separator; backward, the separator
+/// and then the parts. The other loops run over the parts and the separator side by side. The
+/// order is the vertex numbering's, not the threads', so a solve is bit-identical at any thread
+/// count. The corotational FEM numbers its large meshes in parts and measures the solve against
+/// Jacobi-PCG per mesh size (its `preconditioner` parameter).
 ///
 /// The solve ends with a coarse correction on the three rigid translations (a two-level
 /// method's coarse step, applied once): the error the sweeps leave in a translation, which no

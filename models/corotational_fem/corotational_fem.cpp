@@ -47,7 +47,11 @@ LinearSolverOptions solver_options(const CorotationalFemParams& params) {
 CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
                                            const Material& material,
                                            const CorotationalFemParams& params)
-    : CorotationalFemModel(renumbered_for_locality(mesh), material, params) {
+    : CorotationalFemModel(
+        renumbered_for_locality(
+            mesh, mesh.num_vertices() > BlockPattern::kParallelVertices ? kSweepParts : 1),
+        material,
+        params) {
 }
 
 CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
@@ -105,6 +109,7 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
   }
 
   pattern_ = std::make_unique<BlockPattern>(num_vertices_, edges);
+  pattern_->set_parts(std::move(inner.part_offsets));
   solver_ = make_system_solver(solver_options(params_), *pattern_);
 
   deformations_.resize(num_elements);

@@ -90,9 +90,9 @@ struct CorotationalFemParams {
   LinearSolver solver = LinearSolver::kConjugateGradient;
   enum class Preconditioner { kJacobi, kSsor };
   /// "cg" only. "ssor": symmetric block Gauss-Seidel (models/ssor_solver.h), few iterations,
-  /// on one thread; "jacobi": the inverse diagonal, twice the iterations and 3x the error at
-  /// the same tolerance, parallel over vertices from 2048 (on liver_x16 with two threads 16%
-  /// faster than "ssor"; with one, 9% slower: bench/fem_bench.cpp).
+  /// its sweeps on two parts of the mesh side by side from 2048 vertices; "jacobi": the
+  /// inverse diagonal, twice the iterations and 3x the error at the same tolerance, parallel
+  /// over vertices from 2048 (bench/fem_bench.cpp compares them).
   Preconditioner preconditioner = Preconditioner::kSsor;
   /// Iterative solvers: start each solve from the best combination (in the energy norm) of the
   /// last step's velocity change and the three before it (models/warm_start.h; their four

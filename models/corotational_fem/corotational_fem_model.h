@@ -57,6 +57,11 @@ class CorotationalFemModel final : public SoftBody {
   /// waits for the descheduled thread (a scheduler time slice): the step took 35 ms instead of
   /// 1.6. From liver_x4 (22861 tets, ~1 ms per pass) the gain outweighs that risk.
   static constexpr int kParallelElements = 16384;
+  /// Above BlockPattern::kParallelVertices the vertices are numbered in this many parts and a
+  /// separator (renumbered_for_locality()), so that the SSOR solver's sweeps run on the parts
+  /// side by side. A fixed count, not the thread count: the numbering, and so every result, is
+  /// the same on any number of threads.
+  static constexpr int kSweepParts = 2;
   /// Elements side by side in the element kernels, one per vector lane.
   static constexpr int kElementLanes = 8;
   /// A 3x3 matrix of each lane: column-major entries, m[i + 3 j][lane] is entry (i, j).

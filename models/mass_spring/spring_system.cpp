@@ -605,14 +605,15 @@ SolveReport SpringSystem::solve_ssor(double tolerance,
   const auto apply_d = [filtered](int v, const double* in, double* out) {
     sym_multiply(filtered + 6 * v, in, out);
   };
-  const EisenstatStart start = eisenstat_start(num_vertices_, r, x_hat, r, z, p, apply_d);
+  const std::array<int, 2> whole{0, num_vertices_};  // one range: the sweeps are sequential
+  const EisenstatStart start = eisenstat_start(whole, r, x_hat, r, z, p, apply_d);
   const double first_residual = std::sqrt(start.residual_squared);
 
   EnergyErrorEstimate estimate(reference_energy);
   report.converged = first_residual == 0.0;
   eisenstat_iterations(
-      num_vertices_, x_hat, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance,
-      max_iterations, estimate, report,
+      whole, x_hat, r, z, p, q, start.rz, kRoundoff * first_residual, tolerance, max_iterations,
+      estimate, report,
       [this](double beta) {
         backward_sweep(beta);
         return forward_sweep();

@@ -123,5 +123,69 @@ TEST(Renumbered, IsTheSameBodyWithItsTetsInOrderOfTheirFirstVertex) {
   EXPECT_EQ(got, expected);
 }
 
+/// The part (0 .. parts - 1) or the separator (parts) of new vertex i.
+int range_of(const std::vector<int>& offsets, int i) {
+  return static_cast<int>(std::upper_bound(offsets.begin(), offsets.end(), i) - offsets.begin())
+         - 1;
+}
+
+TEST(Partitioned, LeavesNoEdgeBetweenTwoPartsAndKeepsTheSeparatorToACut) {
+  // 30 x 8 x 6 cells, numbered by reverse Cuthill-McKee: 31 * 9 * 7 = 1953 vertices. A cut of
+  // the breadth-first numbering crosses the box; its front is about one level of the search,
+  // the box's section (63 vertices) give or take the diagonal of the levels.
+  const TetMesh box = make_tet_mesh(shuffled_box(30, 8, 6));
+  const TetMesh mesh = renumbered(box, reverse_cuthill_mckee(box.tets(), box.num_vertices()));
+  const Eigen::Matrix2Xi edges = unique_edges(mesh.tets());
+  for (const int parts : {2, 3, 4}) {
+    const PartitionedOrder cut = partitioned(mesh.tets(), mesh.num_vertices(), parts);
+    ASSERT_EQ(cut.offsets.size(), static_cast<std::size_t>(parts) + 2);
+    EXPECT_EQ(cut.offsets.front(), 0);
+    EXPECT_EQ(cut.offsets.back(), mesh.num_vertices());
+    std::vector<int> sorted = cut.order.new_of_old;
+    std::sort(sorted.begin(), sorted.end());
+    EXPECT_EQ(sorted, identity(mesh.num_vertices()));  // a permutation
+    for (int i = 0; i < mesh.num_vertices(); ++i) {
+      EXPECT_EQ(cut.order.new_of_old[static_cast<std::size_t>(
+                    cut.order.old_of_new[static_cast<std::size_t>(i)])],
+                i);
+    }
+    // No edge joins two parts: a sweep over one never reads another's values.
+    int crossing = 0;
+    for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+      const int a =
+          range_of(cut.offsets, cut.order.new_of_old[static_cast<std::size_t>(edges(0, e))]);
+      const int b =
+          range_of(cut.offsets, cut.order.new_of_old[static_cast<std::size_t>(edges(1, e))]);
+      crossing += a != b && a < parts && b < parts ? 1 : 0;
+    }
+    EXPECT_EQ(crossing, 0) << parts << " parts";
+    // The separator: one front a cut, each within three sections of the box.
+    const int separator = cut.offsets[static_cast<std::size_t>(parts) + 1]
+                          - cut.offsets[static_cast<std::size_t>(parts)];
+    EXPECT_GT(separator, 0);
+    EXPECT_LE(separator, (parts - 1) * 3 * 63) << parts << " parts";
+    // Equal parts, within a section of the box.
+    for (int k = 0; k < parts; ++k) {
+      const int size =
+          cut.offsets[static_cast<std::size_t>(k) + 1] - cut.offsets[static_cast<std::size_t>(k)];
+      EXPECT_NEAR(size, (mesh.num_vertices() - separator) / parts, 63) << "part " << k;
+    }
+    // Within a part the locality order is kept.
+    for (int i = 1; i < cut.offsets[1]; ++i) {
+      EXPECT_LT(cut.order.old_of_new[static_cast<std::size_t>(i) - 1],
+                cut.order.old_of_new[static_cast<std::size_t>(i)]);
+    }
+  }
+}
+
+TEST(Partitioned, KeepsASmallMeshOrOnePartWhole) {
+  const TetMesh mesh = make_tet_mesh(test::single_tet());
+  for (const int parts : {1, 2}) {
+    const PartitionedOrder cut = partitioned(mesh.tets(), mesh.num_vertices(), parts);
+    EXPECT_EQ(cut.offsets, (std::vector<int>{0, 4, 4}));
+    EXPECT_EQ(cut.order.new_of_old, identity(4));
+  }
+}
+
 }  // namespace
 }  // namespace softbench

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <random>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace softbench {
@@ -149,6 +150,27 @@ TEST(BlockPattern, ColumnAndRowBlocksAreEachOthersMirror) {
       EXPECT_EQ(pattern.get(pattern.row_block(v, static_cast<int>(slot))), row);
     }
   }
+}
+
+TEST(BlockPattern, TakesPartsNoBlockJoinsAndRejectsOthers) {
+  // A path 0 - 1 - 2 - 3 - 4: {0, 1} and {3, 4} are parts with 2 between them as separator
+  // once numbered 0, 1, 3, 4, 2; in the path's own order, {0, 1} and {2, 3} touch.
+  Eigen::Matrix2Xi path(2, 4);
+  path << 0, 1, 2, 3, 1, 2, 3, 4;
+  BlockPattern pattern(5, path);
+  EXPECT_EQ(pattern.parts(), 1);
+  EXPECT_EQ(std::vector<int>(pattern.part_offsets().begin(), pattern.part_offsets().end()),
+            (std::vector<int>{0, 5, 5}));
+  EXPECT_THROW(pattern.set_parts({0, 2, 4, 5}), std::invalid_argument);  // 1 - 2 joins them
+  EXPECT_THROW(pattern.set_parts({0, 5}), std::invalid_argument);        // no separator range
+  pattern.set_parts({0, 2, 5});  // one part and a separator: a valid, if serial, order
+  EXPECT_EQ(pattern.parts(), 1);
+  EXPECT_THROW(pattern.set_parts({0, 3, 2, 5}), std::invalid_argument);  // not in order
+  Eigen::Matrix2Xi renumbered(2, 4);  // old 0, 1, 2, 3, 4 now 0, 1, 4, 2, 3
+  renumbered << 0, 1, 4, 2, 1, 4, 2, 3;
+  BlockPattern cut(5, renumbered);
+  cut.set_parts({0, 2, 4, 5});
+  EXPECT_EQ(cut.parts(), 2);
 }
 
 }  // namespace
