@@ -68,10 +68,26 @@
 //              jacobi 14.0 ms 22.0 it 0.126  10.7 ms
 //   liver_x16  cg    133 ms   15.0 it 0.040   123 ms (1.09x)
 //              jacobi 145 ms  33.0 it 0.137   103 ms (1.41x)
-// The SSOR solve runs on one thread, so with two threads on liver_x16 Jacobi's parallel
-// products win by 16%, at 3.4x the error; with one thread SSOR wins everywhere but liver_x4.
+// The SSOR solve then ran on one thread, so with two threads on liver_x16 Jacobi's parallel
+// products won by 16%, at 3.4x the error; with one thread SSOR won everywhere but liver_x4.
 // The default stays SSOR at every size: a choice by thread count would make a run's bits
 // depend on it, and both meet the 1% goal ("jacobi" is the faster on many cores).
+//
+// 2026-11-28: from 2048 vertices the model numbers the mesh in two parts and a separator and
+// the SSOR sweeps run the parts side by side (ssor_solver.h). cg, medians of 3, real time, the
+// two thread counts in the same process (the VM's speed moved by 1.5x between runs, so only
+// the same run's ratio is quoted); two threads against one:
+//                 before (one-thread sweeps)   after
+//   liver_x4      1.41x, 1.46x                 1.85x, 1.83x
+//   liver_x16     1.56x, 1.25x                 1.85x, 2.7x (solve 66.6 -> 23.3 ms)
+// The separator, swept after both parts, couples later: 14.0-15.0 iterations on liver_x16
+// (13.9-15.0 before), cholmod_match 0.042% (0.035%), liver_x4 0.028% (0.024%). liver.msh is
+// one part, its results unchanged to the last digit. Under a busy second core (a spinning
+// process) two threads lose, as they did before: every parallel region waits for the thread the
+// scheduler has set aside. liver_x4 one / two threads 6.5 / 14.7 ms before, 7.2 / 22.0 after;
+// liver_x16 76 / 83 before, 45 / 101 after (the sweeps add two regions an iteration). Their
+// results do not depend on the thread count, so a model could choose it step by step from
+// what it measures; it does not yet.
 //
 // 2026-11-28: the assembly's gathers prefetch the element terms eight incidences ahead, and a
 // block's place in the matrix is two ints (BlockEntries). 600 steps of the liver's sag, whole
