@@ -88,23 +88,35 @@ LinearSolverOptions cg_options(Preconditioner preconditioner, double tolerance) 
   return options;
 }
 
+/// Solves `system` for `b` from zero with `options` and checks what such a solve delivers: it
+/// converged, its energy-norm error is within the tolerance (the estimate is a lower bound that
+/// tightens with its delay; a factor 10 covers its slack), and the residual it reports is the
+/// system's, |b - A x| / |b| (Jacobi's updated recursively: round-off apart), not a transformed
+/// one. Returns x; `report` (if given) gets the report.
+Eigen::VectorXd solve_within_tolerance(const BlockSystem& system,
+                                       const Eigen::VectorXd& b,
+                                       const LinearSolverOptions& options,
+                                       SolveReport* report = nullptr) {
+  const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
+  const auto solver = make_system_solver(options, system.pattern);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+  const SolveReport solved = solver->solve(system.pattern, b, x, nullptr);
+  EXPECT_TRUE(solved.converged);
+  EXPECT_LT(energy_norm(system.dense, x - exact),
+            10.0 * options.tolerance * energy_norm(system.dense, exact));
+  EXPECT_NEAR(solved.residual, (b - system.dense * x).norm() / b.norm(),
+              1e-6 * solved.residual + 1e-12);
+  if (report != nullptr) {
+    *report = solved;
+  }
+  return x;
+}
+
 TEST(SystemSolver, EachPreconditionerMeetsTheEnergyNormTolerance) {
   const BlockSystem system = elastic_like_system(1);
   const Eigen::VectorXd b = random_vector(system.pattern.size(), 2);
-  const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
-  constexpr double kTolerance = 1e-6;
   for (const Preconditioner preconditioner : {Preconditioner::kJacobi, Preconditioner::kSsor}) {
-    const auto solver = make_system_solver(cg_options(preconditioner, kTolerance), system.pattern);
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
-    const SolveReport report = solver->solve(system.pattern, b, x, nullptr);
-    EXPECT_TRUE(report.converged);
-    // The estimate is a lower bound that tightens with its delay; a factor 10 covers its slack.
-    EXPECT_LT(energy_norm(system.dense, x - exact),
-              10.0 * kTolerance * energy_norm(system.dense, exact));
-    // The reported residual is the system's, |b - A x| / |b| (Jacobi's updated recursively:
-    // round-off apart), not the transformed one.
-    EXPECT_NEAR(report.residual, (b - system.dense * x).norm() / b.norm(),
-                1e-6 * report.residual + 1e-12);
+    solve_within_tolerance(system, b, cg_options(preconditioner, 1e-6));
   }
 }
 
@@ -143,22 +155,14 @@ TEST(SystemSolver, SsorSweepsPartsSideBySideToTheSameAnswerOnAnyThreadCount) {
       system.pattern.set_parts(cut.offsets);
     }
     const Eigen::VectorXd b = random_vector(system.pattern.size(), 10);
-    const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
     const int threads_before = omp_get_max_threads();
     std::vector<Eigen::VectorXd> answers;
     for (const int threads : {1, 2}) {
       omp_set_num_threads(threads);
-      const auto solver =
-          make_system_solver(cg_options(Preconditioner::kSsor, kTolerance), system.pattern);
-      Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
-      const SolveReport report = solver->solve(system.pattern, b, x, nullptr);
-      EXPECT_TRUE(report.converged);
-      EXPECT_LT(energy_norm(system.dense, x - exact),
-                10.0 * kTolerance * energy_norm(system.dense, exact));
-      EXPECT_NEAR(report.residual, (b - system.dense * x).norm() / b.norm(),
-                  1e-6 * report.residual + 1e-12);
+      SolveReport report;
+      answers.push_back(solve_within_tolerance(
+          system, b, cg_options(Preconditioner::kSsor, kTolerance), &report));
       iterations[parts ? 1 : 0] = report.iterations;
-      answers.push_back(x);
     }
     omp_set_num_threads(threads_before);
     EXPECT_TRUE(answers[0] == answers[1]) << "parts " << parts;  // bit-identical
