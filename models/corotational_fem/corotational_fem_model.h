@@ -9,6 +9,7 @@
 #include "models/param_table.h"
 #include "models/renumbered_vertices.h"
 #include "models/system_solver.h"
+#include "models/thread_choice.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -205,6 +206,9 @@ class CorotationalFemModel final : public SoftBody {
   Eigen::Matrix3Xd known_changes_;   ///< dv at exactly constrained vertices
   Eigen::VectorXd rhs_;              ///< b, 3#V
   Eigen::VectorXd velocity_change_;  ///< dv; the previous step's warm-starts CG
+  /// One thread or the OpenMP threads, step by step, whichever is faster now: the results do
+  /// not depend on it.
+  ThreadChoice thread_choice_;
 };
 
 }  // namespace softbench::corotational_fem

@@ -130,6 +130,7 @@ void CorotationalFemModel::compute_reactions(double dt) {
 StepStats CorotationalFemModel::step_timed(double dt,
                                            const StepInput& outer_input,
                                            PhaseTimes* times) {
+  const ThreadChoice::Scope threads(thread_choice_);
   PhaseClock clock(times);
   const StepInput input = renumbering_.to_inner(outer_input);
   constraints_.bind(input.constraints);
