@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 
 namespace softbench {
 
@@ -18,15 +19,21 @@ inline constexpr int kMaxRanges = 17;
 struct RangeSums {
   double first = 0.0;
   double second = 0.0;
+  RangeSums& operator+=(const RangeSums& other) {
+    first += other.first;
+    second += other.second;
+    return *this;
+  }
 };
 
 /// body(first, last) over the vertex ranges [offsets[k], offsets[k + 1]), side by side (an
-/// OpenMP thread each) when there are several, their sums added in the ranges' order: the same
-/// whatever the thread count. One non-empty range runs on the calling thread. The ranges must not
-/// share the values a body writes (a vector loop over vertices; BlockPattern::part_offsets() for a
-/// sweep's parts).
+/// OpenMP thread each) when two or more have vertices, what each returns (a value-initialised
+/// type with +=, RangeSums for most loops) added in the ranges' order: the same whatever the
+/// thread count. The ranges must not share the values a body writes (a vector loop over
+/// vertices; BlockPattern::part_offsets() for a sweep's parts).
 template <class Body>
-RangeSums over_ranges(std::span<const int> offsets, const Body& body) {
+auto over_ranges(std::span<const int> offsets, const Body& body) {
+  using Sums = std::invoke_result_t<const Body&, int, int>;
   const auto ranges = static_cast<int>(offsets.size()) - 1;
   if (ranges > kMaxRanges) {
     throw std::invalid_argument("over_ranges: more than kMaxRanges ranges");
@@ -35,7 +42,7 @@ RangeSums over_ranges(std::span<const int> offsets, const Body& body) {
   for (int k = 0; k < ranges; ++k) {
     filled += offsets[static_cast<std::size_t>(k) + 1] > offsets[static_cast<std::size_t>(k)];
   }
-  std::array<RangeSums, kMaxRanges> sums{};
+  std::array<Sums, kMaxRanges> sums{};
   // Dynamic: the ranges differ in size (a sweep's separator is small), and whichever thread is
   // free takes the next. A parallel region for one range (a small mesh's whole body and its
   // empty separator) would only wait: under a busy second core, for a descheduled thread.
@@ -44,10 +51,9 @@ RangeSums over_ranges(std::span<const int> offsets, const Body& body) {
     sums[static_cast<std::size_t>(k)] =
         body(offsets[static_cast<std::size_t>(k)], offsets[static_cast<std::size_t>(k) + 1]);
   }
-  RangeSums total;
+  Sums total{};
   for (int k = 0; k < ranges; ++k) {
-    total.first += sums[static_cast<std::size_t>(k)].first;
-    total.second += sums[static_cast<std::size_t>(k)].second;
+    total += sums[static_cast<std::size_t>(k)];
   }
   return total;
 }

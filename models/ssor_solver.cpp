@@ -6,7 +6,6 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
-#include <array>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -55,14 +54,19 @@ bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
   // (Z^T A)'s block at c, the transpose of (A Z)_c (A is symmetric); the strip of c itself is
   // D_c. One pass over the values for both, range by range (the pattern's parts and separator
   // side by side), Z^T A Z summed in the ranges' order.
-  const std::span<const int> ranges = a.part_offsets();
-  const auto count = static_cast<int>(ranges.size()) - 1;
-  std::array<Eigen::Matrix3d, kMaxRanges> coarse_parts;
-  std::array<char, kMaxRanges> invertible_parts{};
-  const auto load_range = [&](int range) {
+  /// A range's part of Z^T A Z, and whether its diagonal blocks were all invertible.
+  struct CoarseSums {
     Eigen::Matrix3d coarse = Eigen::Matrix3d::Zero();
-    const auto index = static_cast<std::size_t>(range);
-    for (int c = ranges[index]; c < ranges[index + 1]; ++c) {
+    bool invertible = true;
+    CoarseSums& operator+=(const CoarseSums& other) {
+      coarse += other.coarse;
+      invertible = invertible && other.invertible;
+      return *this;
+    }
+  };
+  const CoarseSums total = over_ranges(a.part_offsets(), [&](int first, int last) {
+    CoarseSums part;
+    for (int c = first; c < last; ++c) {
       const auto degree = static_cast<int>(a.neighbours(c).size());
       const int own = a.own_slot(c);
       const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
@@ -83,13 +87,13 @@ bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
         sums(2, k) = s2;
         block.col(k) = Eigen::Map<const Eigen::Vector3d>(strip + 3 * own);
       }
-      coarse += sums;
+      part.coarse += sums;
       Eigen::Matrix3d inverse;
       bool invertible = false;
       block.computeInverseWithCheck(inverse, invertible);
       if (!invertible || !inverse.allFinite()) {
-        invertible_parts[index] = 0;
-        return;
+        part.invertible = false;
+        return part;
       }
       for (int k = 0; k < 9; ++k) {
         diagonal_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
@@ -98,21 +102,10 @@ bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
             inverse(k / 3, k % 3);
       }
     }
-    coarse_parts[index] = coarse;
-    invertible_parts[index] = 1;
-  };
-#pragma omp parallel for schedule(dynamic, 1) if (count > 2)
-  for (int range = 0; range < count; ++range) {
-    load_range(range);
-  }
-  coarse_.setZero();
-  for (int range = 0; range < count; ++range) {
-    if (invertible_parts[static_cast<std::size_t>(range)] == 0) {
-      return false;
-    }
-    coarse_ += coarse_parts[static_cast<std::size_t>(range)];
-  }
-  return true;
+    return part;
+  });
+  coarse_ = total.coarse;
+  return total.invertible;
 }
 
 SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
@@ -158,9 +151,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   const int n = num_vertices_;
   const auto forward = [&](const auto& rows) {
     RangeSums sums = over_ranges(parts, rows);
-    const RangeSums rest = rows(separator, n);
-    sums.first += rest.first;
-    sums.second += rest.second;
+    sums += rows(separator, n);
     return sums;
   };
   const auto backward = [&](const auto& rows) {

@@ -43,8 +43,8 @@ class ThreadChoice {
 
  private:
   std::array<double, 2> average_{};  ///< s a step, [0] one thread, [1] parallel; 0: not yet run
-  int steps_ = 0;
-  bool parallel_ = true;  ///< the way of the step being run
+  long long steps_ = 0;              ///< steps asked for (64 bits: a soak never wraps it)
+  bool parallel_ = true;             ///< the way of the step being run
 };
 
 }  // namespace softbench
