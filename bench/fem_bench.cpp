@@ -25,9 +25,11 @@
 // defaults trade).
 //
 // Threads: T is set with omp_set_num_threads inside the benchmark. The model parallelises from
-// 16384 elements / 2048 vertices up, so liver.msh runs serially whatever T (see
-// corotational_fem_step.cpp: on a shared 2-core machine its short regions lose more to a
-// descheduled thread than they gain). CHOLMOD calls OpenBLAS, whose pthreads are separate
+// 1024 vertices (liver.msh has 1215), each step on the threads or on one as ThreadChoice finds
+// faster (models/thread_choice.h: on a shared 2-core machine a short region loses more to a
+// descheduled thread than it gains). With T = 2 the run takes more steps in its time than with
+// T = 1, and the liver's later steps, nearer rest, need fewer iterations: compare
+// mean_iterations before reading the ratio. CHOLMOD calls OpenBLAS, whose pthreads are separate
 // (OPENBLAS_NUM_THREADS): run the CHOLMOD variants with OMP_WAIT_POLICY=passive (our idle OpenMP
 // threads otherwise spin on the cores OpenBLAS needs: liver_x4 107 -> 82 ms), the CG variants
 // with the default policy (passive makes every one of CG's short regions pay a wake-up: x4 with

@@ -173,7 +173,7 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
   double* out = y.data();
   const int chunks = num_chunks();
   const bool want_dots = !chunk_dots.empty();
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
+#pragma omp parallel for schedule(static) if (threaded())
   for (int chunk = 0; chunk < chunks; ++chunk) {
     const int first = chunk * kChunkVertices;
     const int last = std::min(num_vertices_, first + kChunkVertices);
@@ -228,7 +228,7 @@ void BlockPattern::multiply(const Eigen::VectorXd& x,
 double BlockPattern::quadratic_form(const Eigen::VectorXd& x, std::span<double> chunk_sums) const {
   // sum over c of x_c . (A_cc x_c + 2 sum over n > c of A_cn x_n).
   const int chunks = num_chunks();
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
+#pragma omp parallel for schedule(static) if (threaded())
   for (int chunk = 0; chunk < chunks; ++chunk) {
     const int first = chunk * kChunkVertices;
     const int last = std::min(num_vertices_, first + kChunkVertices);
@@ -270,6 +270,7 @@ struct Lanes<4> {
 template <int K>
 void multiply_vectors(int num_vertices,
                       int num_chunks,
+                      bool threaded,
                       const double* values,
                       const int* outer,
                       const int* offsets,
@@ -277,7 +278,7 @@ void multiply_vectors(int num_vertices,
                       const std::array<const double*, K>& in,
                       const std::array<double*, K>& out) {
   using Vector = typename Lanes<K>::type;
-#pragma omp parallel for schedule(static) if (num_vertices > BlockPattern::kParallelVertices)
+#pragma omp parallel for schedule(static) if (threaded)
   for (int chunk = 0; chunk < num_chunks; ++chunk) {
     const int first = chunk * BlockPattern::kChunkVertices;
     const int last = std::min(num_vertices, first + BlockPattern::kChunkVertices);
@@ -318,8 +319,9 @@ void multiply_vectors(const BlockPattern& pattern,
     in[k] = x[k]->data();
     out[k] = y[k]->data();
   }
-  multiply_vectors<K>(pattern.num_vertices(), pattern.num_chunks(), pattern.matrix().valuePtr(),
-                      pattern.matrix().outerIndexPtr(), offsets, neighbours, in, out);
+  multiply_vectors<K>(pattern.num_vertices(), pattern.num_chunks(), pattern.threaded(),
+                      pattern.matrix().valuePtr(), pattern.matrix().outerIndexPtr(), offsets,
+                      neighbours, in, out);
 }
 
 }  // namespace

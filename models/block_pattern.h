@@ -50,6 +50,10 @@ class BlockPattern {
   /// parts() + 2 offsets: part k is [offsets[k], offsets[k + 1]), the separator the last range.
   std::span<const int> part_offsets() const { return part_offsets_; }
   int parts() const { return static_cast<int>(part_offsets_.size()) - 2; }
+  /// Whether the products and sweeps run on the OpenMP threads: above kParallelVertices, or when
+  /// the model numbered its vertices into parts for its threads (its step then chooses, step by
+  /// step, whether to use them: ThreadChoice).
+  bool threaded() const { return num_vertices_ > kParallelVertices || parts() > 1; }
 
   /// The matrix with the pattern; all values zero until written.
   Eigen::SparseMatrix<double>& matrix() { return matrix_; }
@@ -141,7 +145,7 @@ class BlockPattern {
   /// neighbour indices). Deterministic: each entry is summed in a fixed order whatever the thread
   /// count. If `chunk_dots` is not empty (num_chunks() entries), entry k receives the part of
   /// x . y over chunk k: summed in order by the caller, the dot product is independent of the
-  /// thread count too. Parallel (OpenMP, static) above kParallelVertices vertices.
+  /// thread count too. Parallel (OpenMP, static) when threaded().
   void multiply(const Eigen::VectorXd& x,
                 Eigen::VectorXd& y,
                 std::span<double> chunk_dots = {}) const;
@@ -163,8 +167,9 @@ class BlockPattern {
   /// Deterministic reductions split the 3N entries into chunks of this many vertices
   /// (multiply() and the CG vector loops).
   static constexpr int kChunkVertices = 256;
-  /// Below this many vertices a product runs on one thread: a parallel region costs a few
-  /// microseconds, as much as the product of a ~1000-vertex matrix saves on two cores.
+  /// Below this many vertices a product runs on one thread (unless threaded() says otherwise): a
+  /// parallel region costs a few microseconds, as much as the product of a ~1000-vertex matrix
+  /// saves on two cores, and when another process holds a core every region waits for it.
   static constexpr int kParallelVertices = 2048;
   int num_chunks() const { return (num_vertices_ + kChunkVertices - 1) / kChunkVertices; }
 

@@ -48,8 +48,7 @@ CorotationalFemModel::CorotationalFemModel(const TetMesh& mesh,
                                            const Material& material,
                                            const CorotationalFemParams& params)
     : CorotationalFemModel(
-        renumbered_for_locality(
-            mesh, mesh.num_vertices() > BlockPattern::kParallelVertices ? kSweepParts : 1),
+        renumbered_for_locality(mesh, mesh.num_vertices() >= kThreadedVertices ? kSweepParts : 1),
         material,
         params) {
 }

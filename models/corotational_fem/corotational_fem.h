@@ -43,9 +43,10 @@ namespace softbench {
 // updated residual); iterations: CG iterations (0 for CHOLMOD); factorizations: numeric
 // Cholesky factorisations this step.
 //
-// Threads: OpenMP over elements (from 16384) and over vertices, edges and CG chunks (from 2048
-// vertices), every sum in a fixed order: results are bit-identical for any thread count. The
-// shipped liver is below both thresholds (CorotationalFemModel::kParallelElements says why).
+// Threads: from 1024 vertices (the shipped liver has 1215) OpenMP over elements, vertices,
+// edges, CG chunks and the SSOR sweeps' two parts, every sum in a fixed order: results are
+// bit-identical for any thread count. Each step runs on the threads or on one, whichever has
+// lately been faster (CorotationalFemModel::kThreadedVertices says why).
 //
 // Defaults: the fastest settings that match CHOLMOD within 1% on the shipped liver, measured
 // with bench/fem_bench.cpp (1215 vertices, 4777 tets, E 3000 Pa, nu 0.3, dt = 1/60 s, pinned at

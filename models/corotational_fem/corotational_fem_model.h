@@ -51,17 +51,17 @@ class CorotationalFemModel final : public SoftBody {
                        const Material& material,
                        const CorotationalFemParams& params);
 
-  /// Loops over fewer elements run on one thread; the vertex and edge gathers follow the vertex
-  /// count (BlockPattern::kParallelVertices, as the CG products do). Measured on the 2-core test
-  /// machine: on the shipped liver (4777 tets, ~0.2 ms per element pass) two threads save ~0.25
-  /// ms of a 1.6 ms step when both cores are idle, but when another job holds a core every region
-  /// waits for the descheduled thread (a scheduler time slice): the step took 35 ms instead of
-  /// 1.6. From liver_x4 (22861 tets, ~1 ms per pass) the gain outweighs that risk.
-  static constexpr int kParallelElements = 16384;
-  /// Above BlockPattern::kParallelVertices the vertices are numbered in this many parts and a
+  /// From this many vertices the step's loops (elements, gathers, products, sweeps) run on the
+  /// OpenMP threads (BlockPattern::threaded()) when ThreadChoice finds them faster, step by step;
+  /// fewer run on one thread. The vertices are then numbered in kSweepParts parts and a
   /// separator (renumbered_for_locality()), so that the SSOR solver's sweeps run on the parts
   /// side by side. A fixed count, not the thread count: the numbering, and so every result, is
-  /// the same on any number of threads.
+  /// the same on any number of threads. Measured on the 2-core test machine, idle: the shipped
+  /// liver (1215 vertices, 4777 tets) 1.6-1.7 -> 1.0-1.1 ms a step on two threads (alternating
+  /// within one run). When another process holds a core, every parallel region waits for the
+  /// thread the scheduler has set aside (a step took 2-60 times as long): ThreadChoice then
+  /// runs one thread, and tries the threads only when a core is free.
+  static constexpr int kThreadedVertices = 1024;
   static constexpr int kSweepParts = 2;
   /// Elements side by side in the element kernels, one per vector lane.
   static constexpr int kElementLanes = 8;
@@ -127,9 +127,11 @@ class CorotationalFemModel final : public SoftBody {
     double velocity_weight = 0.0;
     double force_scale = 1.0;
   };
+  /// Whether the step's loops may run on the threads (kThreadedVertices).
+  bool threaded() const { return pattern_->threaded(); }
   /// A batch of kElementLanes elements side by side (corotational_fem_terms.cpp).
   struct ElementBatch;
-  /// body(batch) for every batch, its rest data loaded (parallel above kParallelElements).
+  /// body(batch) for every batch, its rest data loaded (parallel when threaded()).
   template <class Body>
   void for_each_batch(const Body& body);
   /// The batch's F at the current positions and its R (see update_deformations()).

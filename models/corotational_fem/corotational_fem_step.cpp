@@ -11,8 +11,6 @@
 namespace softbench::corotational_fem {
 namespace {
 
-constexpr int kParallelVertices = BlockPattern::kParallelVertices;
-
 /// Four doubles in one vector (an AVX register at x86-64-v3, two SSE2 ones at the baseline).
 /// The gathers sum 3x3 outer products w_a w_b^T column by column: a column is w_a times one
 /// entry of w_b, three multiply-adds of a vector an incidence where Eigen's 3x3 product made
@@ -48,7 +46,7 @@ void CorotationalFemModel::assemble(double mass_coefficient,
   const double lambda = lame_.lambda;
   const double mu = lame_.mu;
   const double mass_damping = params_.rayleigh_mass;
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
+#pragma omp parallel for schedule(static) if (threaded())
   for (int v = 0; v < num_vertices_; ++v) {
     Quad outer0{};  // column j of sum w w^T in outer<j>'s lanes 0-2
     Quad outer1{};
@@ -90,7 +88,7 @@ void CorotationalFemModel::assemble(double mass_coefficient,
     rhs_.segment<3>(3 * v) = Eigen::Vector3d(rhs[0], rhs[1], rhs[2]) + dt * force;
   }
   const auto num_edges = static_cast<int>(edge_offsets_.size()) - 1;
-#pragma omp parallel for schedule(static) if (num_vertices_ > kParallelVertices)
+#pragma omp parallel for schedule(static) if (threaded())
   for (int edge = 0; edge < num_edges; ++edge) {
     Quad outer0{};  // column j of sum w_a w_b^T in outer<j>'s lanes 0-2
     Quad outer1{};

@@ -126,7 +126,7 @@ struct CorotationalFemModel::ElementBatch {
 template <class Body>
 void CorotationalFemModel::for_each_batch(const Body& body) {
   const auto num_batches = static_cast<int>(rest_batches_.size());
-#pragma omp parallel for schedule(static) if (num_elements_ > kParallelElements)
+#pragma omp parallel for schedule(static) if (threaded())
   for (int batch = 0; batch < num_batches; ++batch) {
     ElementBatch lanes;
     lanes.first = batch * kLanes;

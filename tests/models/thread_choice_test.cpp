@@ -19,33 +19,52 @@ int run(ThreadChoice& choice, int steps, double parallel_seconds, double serial_
   return parallel;
 }
 
-TEST(ThreadChoice, RunsTheFasterWayAndTriesTheOtherOnceAnInterval) {
-  ThreadChoice choice;
-  constexpr int kSteps = 4 * ThreadChoice::kProbeInterval;
-  // The threads twice as fast: one step in an interval on one thread, the probe.
-  EXPECT_EQ(run(choice, kSteps, 1.0, 2.0), kSteps - 4);
+/// A choice that sees a core free (or busy) whatever the machine is doing.
+ThreadChoice with_core_free(const bool& free) {
+  return ThreadChoice([&free] { return free; });
 }
 
-TEST(ThreadChoice, TurnsToOneThreadWhenTheThreadsWaitAndBackWhenTheyNoLongerDo) {
-  ThreadChoice choice;
-  run(choice, 2, 1.0, 2.0);  // the warm-up, then a step on the threads
-  // Another process takes a core: the threads' steps take three times one thread's. The probe
-  // of one thread at the third step finds it; the step after it still goes by the threads'
-  // older average, and from then on only the probes use the threads.
-  constexpr int kSteps = 4 * ThreadChoice::kProbeInterval;
-  EXPECT_EQ(run(choice, kSteps, 6.0, 2.0), 4);
-  // The core is free again: the threads' probes pull their average down, and within two
-  // intervals the threads are chosen again.
-  const int parallel = run(choice, 4 * ThreadChoice::kProbeInterval, 1.0, 2.0);
-  EXPECT_GE(parallel, 2 * ThreadChoice::kProbeInterval);
-  EXPECT_GE(run(choice, ThreadChoice::kProbeInterval, 1.0, 2.0), ThreadChoice::kProbeInterval - 1);
+TEST(ThreadChoice, RunsTheFasterWayAndSpacesItsProbesByWhatTheyCost) {
+  // The threads twice as fast. Steps 0 and 1 on one thread, the threads' probe at steps 2-5;
+  // its four steps saved 1 s each, so one thread's probe comes after 4 / kProbeShare = 400 steps
+  // on the threads: steps 406-409, then 810-813.
+  ASSERT_EQ(ThreadChoice::kProbeSteps, 4);
+  ASSERT_DOUBLE_EQ(ThreadChoice::kProbeShare, 0.01);
+  const bool free = true;
+  ThreadChoice choice = with_core_free(free);
+  EXPECT_EQ(run(choice, 900, 1.0, 2.0), 900 - 2 - 4 - 4);
+}
+
+TEST(ThreadChoice, EndsAProbeAtAStepClearlySlowerAndBacksOffAfterEachLoss) {
+  // The threads five times slower: each probe of them ends after its first step, and the next
+  // comes at most twice the last interval later (16, 32, 64, 128): steps 2, 19, 52, 117, 246.
+  const bool free = true;
+  ThreadChoice choice = with_core_free(free);
+  EXPECT_EQ(run(choice, 246, 10.0, 2.0), 4);
+  EXPECT_EQ(run(choice, 1, 10.0, 2.0), 1);
+}
+
+TEST(ThreadChoice, TurnsToOneThreadWhenACoreIsBusyAndBackWhenItIsFree) {
+  bool free = true;
+  ThreadChoice choice = with_core_free(free);
+  EXPECT_EQ(run(choice, 300, 1.0, 2.0), 300 - 2);  // the threads from step 2 on
+  // Another process takes a core: a step on the threads takes 100 times one thread's. The
+  // first (step 300) turns the choice. The threads' probes, due at 406 and then twice as far
+  // each time (1206, 2806), are skipped while the core is busy.
+  free = false;
+  EXPECT_EQ(run(choice, 1000, 200.0, 2.0), 1);
+  // The core is free again: the probe at 2806 finds it, and the threads run from then on but
+  // for one thread's probe 400 steps after theirs (3210-3213).
+  free = true;
+  EXPECT_EQ(run(choice, 2000, 1.0, 2.0), (3300 - 2806) - 4);
 }
 
 TEST(ThreadChoice, AScopeRunsItsStepOnOneThreadWhenSoChosenAndRestoresTheCount) {
   const int threads_before = omp_get_max_threads();
   omp_set_num_threads(2);
-  ThreadChoice choice;
-  run(choice, 3, 6.0, 2.0);  // one thread found faster at the third step
+  const bool free = true;
+  ThreadChoice choice = with_core_free(free);
+  run(choice, 3, 6.0, 2.0);  // the threads' probe at the third step finds them slower
   {
     const ThreadChoice::Scope scope(choice);
     EXPECT_EQ(omp_get_max_threads(), 1);
