@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "harness/compare/comparison.h"
 
-#include "harness/format.h"
 #include "geometry/input_error.h"
 #include "harness/calibrate/calibration.h"
+#include "harness/format.h"
 #include "harness/provenance.h"
 #include "harness/run/reference.h"
 #include "models/model_registry.h"
@@ -285,7 +285,8 @@ std::vector<SpeedRatio> speed_ratios(const std::vector<ModelRun>& runs) {
   const std::optional<double> fem = rate("corotational_fem");
   std::vector<SpeedRatio> ratios;
   for (const char* label : {"shape_matching", "mass_spring"}) {
-    SpeedRatio ratio{label, *thesis_steps_per_second(label) / *thesis_steps_per_second("corotational_fem"),
+    SpeedRatio ratio{label,
+                     *thesis_steps_per_second(label) / *thesis_steps_per_second("corotational_fem"),
                      std::nullopt};
     const std::optional<double> ours = rate(label);
     if (fem && ours) {
@@ -324,12 +325,10 @@ MatchedScene run_matched(const scenes::Scene& scene,
       try {
         const Calibration calibration = calibrate(row_scene, mesh, row.model, calibration_options);
         row_scene.model_parameters[row.model] = calibration.params;
-        matched.calibrations[row.label] = {{"values", calibration.values},
-                                           {"targets", calibration.targets},
-                                           {"errors", calibration.errors},
-                                           {"evaluations", calibration.evaluations},
-                                           {"seconds", calibration.seconds},
-                                           {"cached", calibration.cached}};
+        matched.calibrations[row.label] = {
+            {"values", calibration.values},   {"targets", calibration.targets},
+            {"errors", calibration.errors},   {"evaluations", calibration.evaluations},
+            {"seconds", calibration.seconds}, {"cached", calibration.cached}};
       } catch (const InputError& error) {
         matched.notes.push_back(row.label + ": not calibrated, run with the scene's block ("
                                 + error.what() + ")");
@@ -361,7 +360,11 @@ MatchedScene run_matched(const scenes::Scene& scene,
 Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const CompareOptions& options) {
   const std::vector<ModelVariant> rows = resolve_models(options.models);
   Comparison comparison;
-  comparison.machine = provenance().cpu;
+  // The thread count beside the CPU: the models that use OpenMP threads (the corotational FEM
+  // from 1024 vertices, step by step as they are faster) get this many.
+  const Provenance machine = provenance();
+  comparison.machine = machine.cpu + " with " + std::to_string(machine.threads) + " OpenMP thread"
+                       + (machine.threads == 1 ? "" : "s");
   for (const scenes::Scene& scene : scenes) {
     SceneComparison result;
     result.name = scene.name;
@@ -395,10 +398,8 @@ Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const Compar
                           << settings.substeps << ") for table B\n";
       }
       try {
-        const ReferenceRun reference =
-            reference_run(scene, mesh, settings, options.reference_dir);
-        comparison.matched.push_back(
-            run_matched(scene, mesh, rows, settings, reference, options));
+        const ReferenceRun reference = reference_run(scene, mesh, settings, options.reference_dir);
+        comparison.matched.push_back(run_matched(scene, mesh, rows, settings, reference, options));
         const bool presses = scene.instrument && !scene.instrument->grasp && !scene.grasp;
         if (options.equal_accuracy && presses && !comparison.equal_accuracy) {
           EqualAccuracyOptions trade;
