@@ -5,31 +5,56 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <system_error>
 #include <thread>
 
 namespace softbench {
 
-namespace {
-
-/// The runnable scheduling entities of the machine now: /proc/loadavg's fourth field
-/// ("runnable/existing"); -1 if it cannot be read (not Linux).
-int runnable_on_machine() {
-  std::ifstream file("/proc/loadavg");
+int runnable_in_loadavg(const std::string& text) {
+  std::istringstream in(text);
   double load = 0.0;
   std::string tasks;
-  if (!(file >> load >> load >> load >> tasks)) {
+  if (!(in >> load >> load >> load >> tasks)) {
     return -1;
   }
   const std::size_t slash = tasks.find('/');
-  return slash == std::string::npos ? -1 : std::atoi(tasks.substr(0, slash).c_str());
+  if (slash == 0 || slash == std::string::npos) {
+    return -1;
+  }
+  int runnable = 0;
+  for (std::size_t k = 0; k < slash; ++k) {
+    if (tasks[k] < '0' || tasks[k] > '9' || runnable > 100'000'000) {
+      return -1;
+    }
+    runnable = 10 * runnable + (tasks[k] - '0');
+  }
+  return runnable;
 }
 
-/// This process's threads that are runnable now (state R in /proc/self/task/<id>/stat): the
-/// caller, and OpenMP threads still spinning after a parallel region.
+bool runnable_in_stat(const std::string& line) {
+  // "id (name) state ...": the name may hold spaces and parentheses; the state follows the
+  // last ')'.
+  const std::size_t close = line.rfind(')');
+  return close != std::string::npos && close + 2 < line.size() && line[close + 1] == ' '
+         && line[close + 2] == 'R';
+}
+
+namespace {
+
+/// The runnable scheduling entities of the machine now; -1 if that cannot be read (not Linux).
+int runnable_on_machine() {
+  std::ifstream file("/proc/loadavg");
+  std::string text;
+  std::getline(file, text);
+  return runnable_in_loadavg(text);
+}
+
+/// This process's threads that are runnable now: the caller, and OpenMP threads still spinning
+/// after a parallel region.
 int runnable_in_process() {
   int runnable = 0;
   std::error_code error;
@@ -37,12 +62,7 @@ int runnable_in_process() {
     std::ifstream stat(task.path() / "stat");
     std::string line;
     std::getline(stat, line);
-    // "id (name) state ...": the name may hold spaces and parentheses, the state follows the
-    // last ')'.
-    const std::size_t close = line.rfind(')');
-    if (close != std::string::npos && close + 2 < line.size() && line[close + 2] == 'R') {
-      ++runnable;
-    }
+    runnable += runnable_in_stat(line) ? 1 : 0;
   }
   return runnable;
 }

@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <functional>
+#include <string>
 
 namespace softbench {
 
@@ -11,6 +12,10 @@ namespace softbench {
 /// runnable now (Linux's /proc/loadavg less this process's runnable threads) than the machine
 /// has cores besides the caller's. True where that cannot be read.
 bool core_to_spare();
+/// The runnable count in /proc/loadavg's text ("0.70 1.01 1.54 1/79 7400": 1); -1 if malformed.
+int runnable_in_loadavg(const std::string& text);
+/// Whether a line of /proc/<pid>/task/<id>/stat says its task is runnable (state R).
+bool runnable_in_stat(const std::string& line);
 
 /// Whether a model's step runs its parallel loops on the OpenMP threads or on the calling
 /// thread alone, chosen step by step from the wall time each way took. Only for a model whose

@@ -59,6 +59,21 @@ TEST(ThreadChoice, TurnsToOneThreadWhenACoreIsBusyAndBackWhenItIsFree) {
   EXPECT_EQ(run(choice, 2000, 1.0, 2.0), (3300 - 2806) - 4);
 }
 
+TEST(CoreToSpare, ReadsTheRunnableCountsOfTheMachineAndOfEachThread) {
+  EXPECT_EQ(runnable_in_loadavg("0.70 1.01 1.54 1/79 7400\n"), 1);
+  EXPECT_EQ(runnable_in_loadavg("2.00 1.50 1.20 12/345 999"), 12);
+  EXPECT_EQ(runnable_in_loadavg("0.70 1.01 1.54 79 7400"), -1);
+  EXPECT_EQ(runnable_in_loadavg("0.70 1.01"), -1);
+  EXPECT_EQ(runnable_in_loadavg("0.70 1.01 1.54 x/79 7400"), -1);
+  EXPECT_EQ(runnable_in_loadavg(""), -1);
+  EXPECT_TRUE(runnable_in_stat("4242 (softbench) R 1 4242 4242 0 -1"));
+  EXPECT_FALSE(runnable_in_stat("4243 (softbench) S 1 4242 4242 0 -1"));
+  // A thread's name may hold spaces and parentheses: the state follows the last ')'.
+  EXPECT_TRUE(runnable_in_stat("4244 (a (b) c) R 1"));
+  EXPECT_FALSE(runnable_in_stat("4245 (R) S 1"));
+  EXPECT_FALSE(runnable_in_stat(""));
+}
+
 TEST(ThreadChoice, AScopeRunsItsStepOnOneThreadWhenSoChosenAndRestoresTheCount) {
   const int threads_before = omp_get_max_threads();
   omp_set_num_threads(2);
