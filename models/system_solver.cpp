@@ -28,6 +28,7 @@ class ChunkedVectors {
  public:
   explicit ChunkedVectors(const BlockPattern& pattern)
       : num_vertices_(pattern.num_vertices()),
+        threaded_(pattern.threaded()),
         chunk_sums_(static_cast<std::size_t>(pattern.num_chunks()), 0.0) {}
 
   std::span<double> chunk_sums() { return chunk_sums_; }
@@ -39,13 +40,14 @@ class ChunkedVectors {
     return sum;
   }
 
-  /// Applies `body(begin, end)` to the entry ranges of each chunk, in parallel when large, and
-  /// returns the ordered sum of what each call returns.
+  /// Applies `body(begin, end)` to the entry ranges of each chunk, in parallel when the pattern
+  /// is (BlockPattern::threaded(), as its products), and returns the ordered sum of what each
+  /// call returns.
   template <class Body>
   double for_each_chunk(const Body& body) {
     const auto chunks = static_cast<int>(chunk_sums_.size());
     const Eigen::Index entries = 3 * static_cast<Eigen::Index>(num_vertices_);
-#pragma omp parallel for schedule(static) if (num_vertices_ > BlockPattern::kParallelVertices)
+#pragma omp parallel for schedule(static) if (threaded_)
     for (int chunk = 0; chunk < chunks; ++chunk) {
       const Eigen::Index begin =
           3 * static_cast<Eigen::Index>(chunk) * BlockPattern::kChunkVertices;
@@ -62,6 +64,7 @@ class ChunkedVectors {
 
  private:
   int num_vertices_;
+  bool threaded_;  ///< the pattern's, when the solver was made (its parts are set before)
   std::vector<double> chunk_sums_;
 };
 

@@ -100,13 +100,11 @@ bool ThreadChoice::next_parallel() {
     } else {
       probe_steps_ = kProbeSteps;
       probe_sum_ = 0.0;
-      probe_count_ = 0;
       probe_parallel_ = !better_parallel;
     }
   }
   ++steps_;
-  probing_ = probe_steps_ > 0;
-  parallel_ = probing_ ? probe_parallel_ : better_parallel;
+  parallel_ = probe_steps_ > 0 ? probe_parallel_ : better_parallel;
   return parallel_;
 }
 
@@ -115,24 +113,24 @@ void ThreadChoice::record(double seconds) {
     return;  // the first step also warms the caches up: not a fair sample
   }
   double& average = average_[parallel_ ? 1 : 0];
-  if (!probing_) {
+  if (probe_steps_ == 0) {
     average = average == 0.0 ? seconds : (1.0 - kWeight) * average + kWeight * seconds;
     return;
   }
   probe_sum_ += seconds;
-  ++probe_count_;
+  const int probe_count = kProbeSteps - --probe_steps_;
   const double other = average_[parallel_ ? 0 : 1];
-  if (--probe_steps_ > 0 && !(seconds > kClearlySlower * other)) {
+  if (probe_steps_ > 0 && !(seconds > kClearlySlower * other)) {
     return;
   }
   probe_steps_ = 0;
-  average = probe_sum_ / probe_count_;
+  average = probe_sum_ / probe_count;
   // The next probe: after enough steps of the faster way that what the probe's steps cost more
   // than the faster's is kProbeShare of their time; after a probe that lost, at most twice the
   // last interval (one slow sample, the threads' first region after a pause, say, does not
   // keep the threads away for thousands of steps).
   const double faster = std::min(average, other);
-  const double extra = probe_count_ * std::abs(average - other);
+  const double extra = probe_count * std::abs(average - other);
   double steps = faster > 0.0 ? std::ceil(extra / (kProbeShare * faster)) : 0.0;
   if (average > other) {
     steps = std::min(steps, 2.0 * static_cast<double>(interval_));

@@ -87,11 +87,9 @@ class ThreadChoice {
   long long next_probe_ = 2;         ///< the step (counted from 0) the next probe starts at
   long long interval_ = kMinProbeInterval / 2;  ///< steps from the last probe to the next
   int probe_steps_ = 0;                         ///< steps left in the probe under way (0: none)
-  int probe_count_ = 0;                         ///< its steps so far
-  double probe_sum_ = 0.0;                      ///< s: their time
+  double probe_sum_ = 0.0;                      ///< s: the probe's steps so far
   bool probe_parallel_ = false;                 ///< the way the probe runs
   bool parallel_ = false;                       ///< the way of the step being run
-  bool probing_ = false;                        ///< whether that step is a probe's
 };
 
 }  // namespace softbench
