@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "models/block_pattern.h"
 
-#include "models/double_pair.h"
+#include "models/double_lanes.h"
 #include "models/memory_bytes.h"
 
 #include <algorithm>
@@ -260,7 +260,7 @@ struct Lanes<2> {
 };
 template <>
 struct Lanes<4> {
-  using type = double __attribute__((vector_size(32)));
+  using type = Quad;
 };
 
 /// multiply_many()'s pass for K vectors (K = 2 or 4): per vertex and neighbour, each of the

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // One step of the mass-spring model: spring forces and their Jacobians, symplectic Euler, and
 // linearised backward Euler (Baraff & Witkin 1998) with exact constraints by elimination.
-#include "models/double_pair.h"
+#include "models/double_lanes.h"
+#include "models/finite_state.h"
 #include "models/mass_spring/mass_spring_model.h"
 #include "models/phase_clock.h"
 
@@ -298,7 +299,7 @@ StepStats MassSpringModel::finish_step() const {
           std::max(stats.max_constraint_error, constraint->gap(positions_.col(v)).norm());
     }
   }
-  stats.finite = positions_.allFinite() && velocities_.allFinite();
+  stats.finite = state_finite(positions_, velocities_);
   return stats;
 }
 

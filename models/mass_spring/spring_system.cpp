@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "models/mass_spring/spring_system.h"
 
-#include "models/double_pair.h"
+#include "models/double_lanes.h"
 #include "models/eisenstat_cg.h"
 #include "models/warm_start.h"
 

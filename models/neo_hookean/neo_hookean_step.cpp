@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // One step of the neo-Hookean reference: Newton's method with a backtracking line search on the
 // incremental potential, a CHOLMOD solve per iteration, exact constraints by elimination.
+#include "models/finite_state.h"
 #include "models/memory_bytes.h"
 #include "models/neo_hookean/neo_hookean_model.h"
 
@@ -253,7 +254,7 @@ StepStats NeoHookeanModel::step(double dt, const StepInput& input) {
     }
   }
   constraints_.unbind();
-  stats.finite = stats.finite && positions_.allFinite() && velocities_.allFinite();
+  stats.finite = stats.finite && state_finite(positions_, velocities_);
   return stats;
 }
 

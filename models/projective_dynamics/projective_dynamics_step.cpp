@@ -3,6 +3,7 @@
 // local (rotations, projections) and global (three triangular solve pairs, the holds'
 // multipliers) iterations, and the update with the holds' forces.
 #include "models/corotational_fem/polar_decomposition.h"
+#include "models/finite_state.h"
 #include "models/projective_dynamics/projective_dynamics_model.h"
 
 #include <omp.h>
@@ -122,9 +123,9 @@ void ProjectiveDynamicsModel::assemble_rhs(const Eigen::Matrix3Xd& x) {
   // b - A x = -(the incremental potential's gradient) at x: inertia and damping, less the
   // elements' parts.
   for (int v = 0; v < num_vertices_; ++v) {
-    rhs_.row(v) = (inertia_.col(v) - (mass_coefficient_ * masses_(v)) * x.col(v)
-                   - element_sums_.col(v))
-                      .transpose();
+    rhs_.row(v) =
+        (inertia_.col(v) - (mass_coefficient_ * masses_(v)) * x.col(v) - element_sums_.col(v))
+            .transpose();
   }
   // Eliminated vertices: the move to their targets, and their columns' terms moved to the
   // right-hand side. Their own rows' values are kept: the holds' forces are read from them.
@@ -203,8 +204,8 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
     held_rows_.correct(solution_, iterate_);
     next_ = iterate_ + solution_.transpose();
     if (params_.chebyshev_rho > 0.0 && iteration >= params_.chebyshev_delay) {
-      omega = iteration == params_.chebyshev_delay ? 2.0 / (2.0 - rho2)
-                                                   : 4.0 / (4.0 - rho2 * omega);
+      omega =
+          iteration == params_.chebyshev_delay ? 2.0 / (2.0 - rho2) : 4.0 / (4.0 - rho2 * omega);
       // x_{k+1} = omega (x^_{k+1} - x_{k-1}) + x_{k-1}: an affine combination, so every
       // (linear) hold still holds.
       next_ = omega * (next_ - previous_) + previous_;
@@ -252,7 +253,7 @@ StepStats ProjectiveDynamicsModel::step(double dt, const StepInput& input) {
   velocities_ = (iterate_ - positions_) / dt;
   positions_ = iterate_;
   constraints_.unbind();
-  stats.finite = positions_.allFinite() && velocities_.allFinite();
+  stats.finite = state_finite(positions_, velocities_);
   return stats;
 }
 

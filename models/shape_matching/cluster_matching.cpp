@@ -3,7 +3,9 @@
 // 4.2): the rest-shape precomputation and the allocation-free per-step kernel.
 #include "models/shape_matching/cluster_matching.h"
 
+#include "models/double_lanes.h"
 #include "models/shape_matching/rotation_extraction.h"
+#include "models/team_loop.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -100,82 +102,99 @@ Eigen::Matrix<double, D, 1> monomials(const Eigen::Vector3d& q) {
   return basis;
 }
 
-/// Two doubles as one value (GCC/Clang vector extension): an SSE2 register on x86-64, a NEON
-/// one on AArch64. The moment loop spells its two partial sums out in this type, because GCC
-/// otherwise vectorises it across the nine accumulators, with shuffles and spills.
-using Pair = double __attribute__((vector_size(2 * sizeof(double))));
-
-Pair load_pair(const double* values) {
-  Pair pair;
-  std::memcpy(&pair, values, sizeof(pair));
-  return pair;
-}
-
 /// sum_j p_r[j] b_c[j] for r, c in 0..2: nine dot products in one pass over the rows, each as
-/// two partial sums (even and odd j) added at the end: a fixed summation order, so the result
-/// does not depend on alignment or threads.
+/// four partial sums (j mod 4) added pairwise at the end, then the last n mod 4 terms: a fixed
+/// summation order, so the result does not depend on alignment or threads. With `sums`, also
+/// sum_j p_r[j] (the three rows' totals) in the same pass and order. The nine sums are spelt
+/// out in four-lane vectors: GCC otherwise vectorises the loop across the nine accumulators,
+/// with shuffles and spills.
 Eigen::Matrix3d moments(const double* px,
                         const double* py,
                         const double* pz,
                         const double* b0,
                         const double* b1,
                         const double* b2,
-                        int n) {
-  Pair sums[9] = {};
+                        int n,
+                        Eigen::Vector3d* sums = nullptr) {
+  Quad acc[9] = {};
+  Quad total[3] = {};
   int j = 0;
-  for (; j + 2 <= n; j += 2) {
-    const Pair x = load_pair(px + j);
-    const Pair y = load_pair(py + j);
-    const Pair z = load_pair(pz + j);
-    const Pair u = load_pair(b0 + j);
-    const Pair v = load_pair(b1 + j);
-    const Pair w = load_pair(b2 + j);
-    sums[0] += x * u;
-    sums[1] += x * v;
-    sums[2] += x * w;
-    sums[3] += y * u;
-    sums[4] += y * v;
-    sums[5] += y * w;
-    sums[6] += z * u;
-    sums[7] += z * v;
-    sums[8] += z * w;
+  for (; j + 4 <= n; j += 4) {
+    const Quad x = load_quad(px + j);
+    const Quad y = load_quad(py + j);
+    const Quad z = load_quad(pz + j);
+    const Quad u = load_quad(b0 + j);
+    const Quad v = load_quad(b1 + j);
+    const Quad w = load_quad(b2 + j);
+    acc[0] += x * u;
+    acc[1] += x * v;
+    acc[2] += x * w;
+    acc[3] += y * u;
+    acc[4] += y * v;
+    acc[5] += y * w;
+    acc[6] += z * u;
+    acc[7] += z * v;
+    acc[8] += z * w;
+    if (sums != nullptr) {
+      total[0] += x;
+      total[1] += y;
+      total[2] += z;
+    }
   }
+  const auto lanes = [](Quad quad) { return (quad[0] + quad[2]) + (quad[1] + quad[3]); };
   Eigen::Matrix3d result;
   for (int e = 0; e < 9; ++e) {
-    result(e / 3, e % 3) = sums[e][0] + sums[e][1];
+    result(e / 3, e % 3) = lanes(acc[e]);
   }
-  if (j < n) {  // an odd count: the last term
-    result(0, 0) += px[j] * b0[j];
-    result(0, 1) += px[j] * b1[j];
-    result(0, 2) += px[j] * b2[j];
-    result(1, 0) += py[j] * b0[j];
-    result(1, 1) += py[j] * b1[j];
-    result(1, 2) += py[j] * b2[j];
-    result(2, 0) += pz[j] * b0[j];
-    result(2, 1) += pz[j] * b1[j];
-    result(2, 2) += pz[j] * b2[j];
+  Eigen::Vector3d row_sums(lanes(total[0]), lanes(total[1]), lanes(total[2]));
+  for (; j < n; ++j) {  // the last n mod 4 terms
+    const Eigen::Vector3d p(px[j], py[j], pz[j]);
+    result.col(0) += p * b0[j];
+    result.col(1) += p * b1[j];
+    result.col(2) += p * b2[j];
+    row_sums += p;
+  }
+  if (sums != nullptr) {
+    *sums = row_sums;
   }
   return result;
 }
 
-/// out[j] = centre + sum_d t(d) basis[d n + j]: one coordinate of the goals (vectorised over j;
-/// `out` must not overlap `basis`).
+/// The goals of n members: out_r[j] = centre(r) + sum_d t(r, d) basis[d n + j] for the three
+/// coordinates r, in one pass over the basis rows (vectorised over j; the outputs must not
+/// overlap `basis`).
 template <int D>
-void goal_row(const Eigen::Matrix<double, 1, D>& t,
-              double centre,
-              const double* __restrict basis,
-              int n,
-              double* __restrict out) {
-  double coefficients[D];
+void goal_rows(const Eigen::Matrix<double, 3, D>& t,
+               const Eigen::Vector3d& centre,
+               const double* __restrict basis,
+               int n,
+               double* __restrict out_x,
+               double* __restrict out_y,
+               double* __restrict out_z) {
+  double tx[D];
+  double ty[D];
+  double tz[D];
   for (int d = 0; d < D; ++d) {
-    coefficients[d] = t(d);
+    tx[d] = t(0, d);
+    ty[d] = t(1, d);
+    tz[d] = t(2, d);
   }
+  const double cx = centre.x();
+  const double cy = centre.y();
+  const double cz = centre.z();
   for (int j = 0; j < n; ++j) {
-    double goal = centre;
+    double gx = cx;
+    double gy = cy;
+    double gz = cz;
     for (int d = 0; d < D; ++d) {
-      goal += coefficients[d] * basis[d * n + j];
+      const double b = basis[d * n + j];
+      gx += tx[d] * b;
+      gy += ty[d] * b;
+      gz += tz[d] * b;
     }
-    out[j] = goal;
+    out_x[j] = gx;
+    out_y[j] = gy;
+    out_z[j] = gz;
   }
 }
 
@@ -285,6 +304,7 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
   held_flags_.assign(index(num_particles), 0);
   held_particles_.reserve(index(num_particles));
   held_slot_.assign(index(num_clusters()), -1);
+  match_iterations_.assign(index(num_clusters()), 0);
   changed_flags_.assign(index(num_clusters()), 0);
   changed_clusters_.reserve(index(num_clusters()));
   free_held_slots_.reserve(index(num_clusters()));
@@ -387,31 +407,27 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   const double rx = reference[0];
   const double ry = reference[1];
   const double rz = reference[2];
-  double dx = 0.0;
-  double dy = 0.0;
-  double dz = 0.0;
   for (int j = 0; j < n; ++j) {
     const double* xi = x + 3 * static_cast<std::ptrdiff_t>(particle[j]);
     px[j] = weight[j] * (xi[0] - rx);
     py[j] = weight[j] * (xi[1] - ry);
     pz[j] = weight[j] * (xi[2] - rz);
-    dx += px[j];
-    dy += py[j];
-    dz += pz[j];
   }
-  const double cx = rx + dx;
-  const double cy = ry + dy;
-  const double cz = rz + dz;
+
+  // Apq~ = sum m_i p_i b_i^T / M (3 x D), three basis rows at a time; the first pass also sums
+  // the offsets (c - r).
+  Eigen::Matrix<double, 3, D> apq;
+  Eigen::Vector3d shift;
+  for (int g = 0; g < D; g += 3) {
+    apq.template middleCols<3>(g) = moments(px, py, pz, basis + g * n, basis + (g + 1) * n,
+                                            basis + (g + 2) * n, n, g == 0 ? &shift : nullptr);
+  }
+  const double cx = rx + shift.x();
+  const double cy = ry + shift.y();
+  const double cz = rz + shift.z();
   reference[0] = cx;
   reference[1] = cy;
   reference[2] = cz;
-
-  // Apq~ = sum m_i p_i b_i^T / M (3 x D), three basis rows at a time.
-  Eigen::Matrix<double, 3, D> apq;
-  for (int g = 0; g < D; g += 3) {
-    apq.template middleCols<3>(g) =
-        moments(px, py, pz, basis + g * n, basis + (g + 1) * n, basis + (g + 2) * n, n);
-  }
 
   if (const int slot = held_slot_[index(cluster)]; slot >= 0) {
     return match_held<D>(cluster, held_pool_[index(slot)], positions, apq,
@@ -437,9 +453,7 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
       blend_fit<D>(fit, r, scale_[index(cluster)], params_, 0, Eigen::Matrix3d::Zero());
 
   // Goals g_j = T b_j + c, over the work rows (the offsets are no longer needed).
-  goal_row<D>(t.row(0), cx, basis, n, px);
-  goal_row<D>(t.row(1), cy, basis, n, py);
-  goal_row<D>(t.row(2), cz, basis, n, pz);
+  goal_rows<D>(t, Eigen::Vector3d(cx, cy, cz), basis, n, px, py, pz);
   return iterations;
 }
 
@@ -529,9 +543,7 @@ int ClusterMatcher::match_held(int cluster,
   // only in the directions the held particles leave free.
   const Eigen::Matrix<double, 3, D> t = blend_fit<D>(fit, r, scale, params_, held.rank, held.span);
   const Eigen::Vector3d goal_centre = held_centre - t * held.mean.template head<D>();
-  goal_row<D>(t.row(0), goal_centre.x(), basis, n, px);
-  goal_row<D>(t.row(1), goal_centre.y(), basis, n, py);
-  goal_row<D>(t.row(2), goal_centre.z(), basis, n, pz);
+  goal_rows<D>(t, goal_centre, basis, n, px, py, pz);
 
   // The pulls' net force and first moment (held_pull()), in twelve scalar sums: as a 3 x 3
   // outer product per member GCC keeps the sums in memory.
@@ -784,20 +796,18 @@ int ClusterMatcher::match(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd& g
   const int clusters = num_clusters();
   const int particles = num_particles();
   goals.resize(3, particles);
-  int iterations = 0;
-  [[maybe_unused]] const bool parallel = worth_parallel();
-#pragma omp parallel if (parallel)
-  {
-#pragma omp for schedule(dynamic, 1) reduction(max : iterations)
-    for (int k = 0; k < clusters; ++k) {
-      iterations = std::max(iterations, match_cluster(k, positions));
-    }
-#pragma omp for schedule(dynamic, 256)
-    for (int i = 0; i < particles; ++i) {
-      goals.col(i) = goal(i);
-    }
-  }
-  return iterations;
+  const bool parallel = worth_parallel();
+  maybe_parallel(parallel, [&] {
+    team_loop(parallel, clusters,
+              [&](int k) { match_iterations_[index(k)] = match_cluster(k, positions); });
+    team_loop(parallel, (particles + kParticleChunk - 1) / kParticleChunk, [&](int chunk) {
+      for (int i = chunk * kParticleChunk; i < std::min(particles, (chunk + 1) * kParticleChunk);
+           ++i) {
+        goals.col(i) = goal(i);
+      }
+    });
+  });
+  return clusters > 0 ? *std::max_element(match_iterations_.begin(), match_iterations_.end()) : 0;
 }
 
 void ClusterMatcher::reset() {
@@ -833,8 +843,8 @@ std::size_t ClusterMatcher::held_bytes() const {
 std::size_t ClusterMatcher::memory_bytes() const {
   return member_particle_.size() * sizeof(int) + member_weight_.size() * sizeof(double)
          + basis_.size() * sizeof(double) + work_.size() * sizeof(double)
-         + cluster_offsets_.size() * sizeof(int) + scale_.size() * sizeof(double)
-         + moment_inverse_.size() * sizeof(double)
+         + (cluster_offsets_.size() + match_iterations_.size()) * sizeof(int)
+         + scale_.size() * sizeof(double) + moment_inverse_.size() * sizeof(double)
          + (rest_centres_.size() + reference_.size()) * sizeof(double)
          + rotations_.size() * sizeof(Eigen::Quaterniond) + particle_offsets_.size() * sizeof(int)
          + slot_start_.size() * sizeof(std::ptrdiff_t)

@@ -74,6 +74,9 @@ class ClusterMatcher {
   /// 4,500 memberships) never pays for a thread team.
   bool worth_parallel() const { return num_memberships() + num_particles() >= kParallelWork; }
   static constexpr int kParallelWork = 40000;
+  /// Particles per block of a per-particle loop: a few microseconds of work each, the unit a
+  /// thread takes.
+  static constexpr int kParticleChunk = 256;
   int basis_size() const { return dim_; }  ///< 3 (linear) or 9 (quadratic)
   /// The memberships of cluster k: offsets into the membership arrays.
   int cluster_begin(int cluster) const { return cluster_offsets_[index(cluster)]; }
@@ -121,8 +124,9 @@ class ClusterMatcher {
   int num_refits() const { return static_cast<int>(changed_clusters_.size()); }
   bool is_held(int particle) const { return held_flags_[index(particle)] != 0; }
   /// Clusters that have held members.
-  int num_held_clusters() const { return num_clusters() - static_cast<int>(std::count(
-                                             held_slot_.begin(), held_slot_.end(), -1)); }
+  int num_held_clusters() const {
+    return num_clusters() - static_cast<int>(std::count(held_slot_.begin(), held_slot_.end(), -1));
+  }
   /// For a held particle after a match: the pull (m, like g - x) its clusters' free members
   /// take from it, per unit of its mass and alpha / dt^2. A cluster with held members moves
   /// its goals toward the held ones: its members' pulls (particle i: m_i / n_i (g_i - x_i), n_i
@@ -156,13 +160,13 @@ class ClusterMatcher {
     Eigen::Matrix<double, 9, 1> mean = Eigen::Matrix<double, 9, 1>::Zero();  ///< b_H
     Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  ///< rank 1: the line's rest direction
     Eigen::Matrix3d spread_inverse = Eigen::Matrix3d::Zero();  ///< (sum m/M (q-q_H)(.)^T)^+
-    Eigen::Matrix3d span = Eigen::Matrix3d::Zero();  ///< projector onto what they span
+    Eigen::Matrix3d span = Eigen::Matrix3d::Zero();            ///< projector onto what they span
     /// Columns 1..D of P ((D + 1) x D; see the class comment).
     Eigen::Matrix<double, kMaxFit, 9> keep = Eigen::Matrix<double, kMaxFit, 9>::Zero();
     bool refitted = false;  ///< refitted since its last match
     // Written by each match: the pull shares (held_pull()).
-    Eigen::Vector3d pull = Eigen::Vector3d::Zero();             ///< a
-    Eigen::Matrix3d pull_moment = Eigen::Matrix3d::Zero();      ///< B
+    Eigen::Vector3d pull = Eigen::Vector3d::Zero();         ///< a
+    Eigen::Matrix3d pull_moment = Eigen::Matrix3d::Zero();  ///< B
   };
 
   static std::size_t index(int i) { return static_cast<std::size_t>(i); }
@@ -210,7 +214,8 @@ class ClusterMatcher {
   std::vector<double> moment_inverse_;         ///< D x D per cluster: Aqq^-1 (pseudo-inverse)
   std::vector<Eigen::Quaterniond> rotations_;  ///< warm starts
   std::vector<double> rest_centres_;           ///< 3 per cluster, m: c0
-  std::vector<double> reference_;  ///< 3 per cluster, m: c of the last match (c0 at first)
+  std::vector<double> reference_;      ///< 3 per cluster, m: c of the last match (c0 at first)
+  std::vector<int> match_iterations_;  ///< match()'s rotation iterations per cluster
 
   // Per particle: its memberships (compressed rows), as where their goals sit in work_.
   std::vector<int> particle_offsets_;        ///< #P + 1
@@ -220,11 +225,11 @@ class ClusterMatcher {
   Eigen::VectorXd inverse_count_;            ///< 1 / number of clusters holding the particle
 
   // Held particles.
-  std::vector<unsigned char> held_flags_;  ///< per particle: 1 if held (the last hold())
-  std::vector<int> held_particles_;        ///< the particles of the last hold()
-  std::vector<int> held_slot_;             ///< per cluster: its HeldCluster in held_pool_, or -1
-  std::vector<HeldCluster> held_pool_;     ///< grows to the most clusters ever held at once
-  std::vector<int> free_held_slots_;       ///< pool entries no cluster uses
+  std::vector<unsigned char> held_flags_;     ///< per particle: 1 if held (the last hold())
+  std::vector<int> held_particles_;           ///< the particles of the last hold()
+  std::vector<int> held_slot_;                ///< per cluster: its HeldCluster in held_pool_, or -1
+  std::vector<HeldCluster> held_pool_;        ///< grows to the most clusters ever held at once
+  std::vector<int> free_held_slots_;          ///< pool entries no cluster uses
   std::vector<unsigned char> changed_flags_;  ///< per cluster, during hold_changes()
   std::vector<int> changed_clusters_;         ///< the last hold_changes()'s, to refit
 };

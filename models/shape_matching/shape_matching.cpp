@@ -5,8 +5,10 @@
 #include "models/shape_matching/shape_matching.h"
 
 #include "geometry/mesh_measures.h"
+#include "models/finite_state.h"
 #include "models/memory_bytes.h"
 #include "models/shape_matching/shape_matching_model.h"
+#include "models/team_loop.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +18,7 @@ namespace softbench {
 namespace shape_matching {
 namespace {
 
-/// Particles per chunk of a parallel per-particle loop: a few microseconds of work each.
-[[maybe_unused]] constexpr int kParticleChunk = 256;
+constexpr int kParticleChunk = ClusterMatcher::kParticleChunk;
 
 Clusters clusters_for(const TetMesh& mesh, const ShapeMatchingParams& params) {
   return build_clusters(mesh.rest_positions(),
@@ -39,9 +40,12 @@ ShapeMatchingModel::ShapeMatchingModel(const TetMesh& mesh,
       velocities_(Eigen::Matrix3Xd::Zero(3, num_vertices_)),
       constraint_forces_(Eigen::Matrix3Xd::Zero(3, num_vertices_)),
       predicted_(rest_positions_),
+      flight_(3, num_vertices_),
+      towards_(3, num_vertices_),
       squared_residuals_(Eigen::VectorXd::Zero(num_vertices_)),
       cluster_iterations_(static_cast<std::size_t>(clusters_.count()), 0),
       constraints_(num_vertices_) {
+  inverse_masses_ = masses_.cwiseInverse();
   const double diagonal = bounding_box_diagonal(rest_positions_);
   diagonal_ = diagonal > 0.0 ? diagonal : 1.0;
   kinematic_.reserve(static_cast<std::size_t>(num_vertices_));
@@ -78,6 +82,7 @@ double ShapeMatchingModel::elastic_energy() const {
 std::size_t ShapeMatchingModel::memory_bytes() const {
   return bytes_of(masses_) + bytes_of(rest_positions_) + bytes_of(positions_)
          + bytes_of(velocities_) + bytes_of(constraint_forces_) + bytes_of(predicted_)
+         + bytes_of(flight_) + bytes_of(towards_) + bytes_of(inverse_masses_)
          + bytes_of(squared_residuals_)
          + (clusters_.seeds.size() + clusters_.offsets.size() + clusters_.members.size()
             + cluster_iterations_.size() + kinematic_.capacity())
@@ -85,77 +90,104 @@ std::size_t ShapeMatchingModel::memory_bytes() const {
          + constraints_.memory_bytes() + matcher_.memory_bytes();
 }
 
-void ShapeMatchingModel::predict(int vertex, double dt, const StepInput& input) {
-  const PositionConstraint* constraint = constraints_.of(vertex);
+void ShapeMatchingModel::predict(int first, int last, double dt, const StepInput& input) {
+  const int count = last - first;
+  // Every particle's free flight at once (vectorised over the block): v* = v + dt (g + f / m).
+  auto flight = flight_.middleCols(first, count);
+  flight = velocities_.middleCols(first, count);
+  flight.colwise() += dt * input.gravity;
+  if (input.external_forces != nullptr) {
+    flight += (input.external_forces->middleCols(first, count).array().rowwise()
+               * (dt * inverse_masses_.segment(first, count).transpose().array()))
+                  .matrix();
+  }
+  predicted_.middleCols(first, count) = positions_.middleCols(first, count) + dt * flight;
+  constraint_forces_.middleCols(first, count).setZero();
+  // The constrained particles instead, from their state before the step.
+  for (int vertex = first; vertex < last; ++vertex) {
+    if (const PositionConstraint* constraint = constraints_.of(vertex)) {
+      predict_constrained(vertex, *constraint, dt, input);
+    }
+  }
+  // positions_ is the iterate from here on: the pulls move it from x*.
+  velocities_.middleCols(first, count) = flight;
+  positions_.middleCols(first, count) = predicted_.middleCols(first, count);
+}
+
+void ShapeMatchingModel::predict_constrained(int vertex,
+                                             const PositionConstraint& constraint,
+                                             double dt,
+                                             const StepInput& input) {
   const double mass = masses_(vertex);
   Eigen::Vector3d force = mass * input.gravity;
   if (input.external_forces != nullptr) {
     force += input.external_forces->col(vertex);
   }
-  if (is_exact(constraint)) {
+  const Eigen::Vector3d x = positions_.col(vertex);
+  const Eigen::Vector3d v = velocities_.col(vertex);
+  if (is_exact(&constraint)) {
     // On the target (a sliding particle: where its free flight meets the plane) before the
     // matching, so that the fit sees it there: a fully held particle anchors its clusters (the
     // matcher holds it), a sliding one drags them by its share of their mass. The reaction
     // starts as the momentum change the other forces did not make.
-    const Eigen::Vector3d placed = constraint->place(
-        positions_.col(vertex) + dt * (velocities_.col(vertex) + (dt / mass) * force));
-    const Eigen::Vector3d velocity = (placed - positions_.col(vertex)) / dt;
-    constraint_forces_.col(vertex) = mass * (velocity - velocities_.col(vertex)) / dt - force;
-    velocities_.col(vertex) = velocity;
-    positions_.col(vertex) = placed;
+    const Eigen::Vector3d placed = constraint.place(x + dt * (v + (dt / mass) * force));
+    const Eigen::Vector3d velocity = (placed - x) / dt;
+    constraint_forces_.col(vertex) = mass * (velocity - v) / dt - force;
+    flight_.col(vertex) = velocity;
     predicted_.col(vertex) = placed;
-    return;
-  }
-  // positions_ is the iterate from here on: the pulls move it from x*.
-  if (is_penalty(constraint)) {
+  } else if (is_penalty(&constraint)) {
     // The spring k (target - x) by backward Euler on this particle alone, stable at any dt:
     // (m + dt^2 k) v* = m v + dt (f + k (target - x)).
-    const double k = constraint->stiffness;
-    velocities_.col(vertex) = (mass * velocities_.col(vertex)
-                               + dt * (force + k * constraint->gap(positions_.col(vertex))))
-                              / (mass + dt * dt * k);
-  } else {
-    velocities_.col(vertex) += (dt / mass) * force;
+    const double k = constraint.stiffness;
+    flight_.col(vertex) = (mass * v + dt * (force + k * constraint.gap(x))) / (mass + dt * dt * k);
+    predicted_.col(vertex) = x + dt * flight_.col(vertex);
   }
-  predicted_.col(vertex) = positions_.col(vertex) + dt * velocities_.col(vertex);
-  positions_.col(vertex) = predicted_.col(vertex);
 }
 
-void ShapeMatchingModel::pull(int vertex, double dt) {
-  const PositionConstraint* constraint = constraints_.of(vertex);
-  const Eigen::Vector3d towards_goal = matcher_.goal(vertex) - positions_.col(vertex);
-  if (is_exact(constraint)) {
-    // Held on its target, it is denied the pull toward its goal that its clusters' fit gave
-    // it (a sliding particle only the pull's normal part: it follows the rest in its plane);
-    // holding it takes the opposite of the denied pull's force, m alpha H (p - g) / dt^2. A
-    // kinematic particle's goals are on it (to round-off, when its held set can follow it), and
-    // it also supplies what the pulls toward those anchored goals give its clusters' members.
-    const Eigen::Matrix3d held = constraint->held;
-    const Eigen::Vector3d free_pull = towards_goal - held * towards_goal;
-    squared_residuals_(vertex) = free_pull.squaredNorm();
-    velocities_.col(vertex) += (params_.alpha / dt) * free_pull;
-    positions_.col(vertex) += params_.alpha * free_pull;
-    Eigen::Vector3d denied = held * towards_goal;
-    if (matcher_.is_held(vertex)) {
-      denied -= matcher_.held_pull(vertex);
+void ShapeMatchingModel::pull(int first, int last, double dt) {
+  const int count = last - first;
+  auto towards = towards_.middleCols(first, count);
+  for (int vertex = first; vertex < last; ++vertex) {
+    towards.col(vertex - first) = matcher_.goal(vertex) - positions_.col(vertex);
+  }
+  for (int vertex = first; vertex < last; ++vertex) {
+    if (const PositionConstraint* constraint = constraints_.of(vertex);
+        constraint != nullptr && is_exact(constraint)) {
+      pull_held(vertex, *constraint, dt);
     }
-    constraint_forces_.col(vertex) -= masses_(vertex) * params_.alpha * denied / (dt * dt);
-    return;
   }
-  squared_residuals_(vertex) = towards_goal.squaredNorm();
-  velocities_.col(vertex) += (params_.alpha / dt) * towards_goal;
-  positions_.col(vertex) += params_.alpha * towards_goal;
+  // The alpha pulls of the block at once (vectorised).
+  squared_residuals_.segment(first, count) = towards.colwise().squaredNorm().transpose();
+  velocities_.middleCols(first, count) += (params_.alpha / dt) * towards;
+  positions_.middleCols(first, count) += params_.alpha * towards;
 }
 
-void ShapeMatchingModel::finish(int vertex) {
-  const PositionConstraint* constraint = constraints_.of(vertex);
-  if (is_exact(constraint)) {
-    return;  // its reaction was summed over the pulls
+void ShapeMatchingModel::pull_held(int vertex, const PositionConstraint& constraint, double dt) {
+  // Held on its target, it is denied the pull toward its goal that its clusters' fit gave it
+  // (a sliding particle only the pull's normal part: it follows the rest in its plane); holding
+  // it takes the opposite of the denied pull's force, m alpha H (p - g) / dt^2. A kinematic
+  // particle's goals are on it (to round-off, when its held set can follow it), and it also
+  // supplies what the pulls toward those anchored goals give its clusters' members.
+  const Eigen::Vector3d towards_goal = towards_.col(vertex);
+  const Eigen::Matrix3d& held = constraint.held;
+  towards_.col(vertex) = towards_goal - held * towards_goal;  // the pull it keeps
+  Eigen::Vector3d denied = held * towards_goal;
+  if (matcher_.is_held(vertex)) {
+    denied -= matcher_.held_pull(vertex);
   }
-  constraint_forces_.col(vertex) =
-      is_penalty(constraint)
-          ? Eigen::Vector3d(constraint->stiffness * constraint->gap(positions_.col(vertex)))
-          : Eigen::Vector3d::Zero();
+  constraint_forces_.col(vertex) -= masses_(vertex) * params_.alpha * denied / (dt * dt);
+}
+
+void ShapeMatchingModel::finish(int first, int last) {
+  // A free particle's force stays the 0 of predict(), an exactly held one's is what predict()
+  // and the pulls summed; a penalty constraint's is its spring's at the end.
+  for (int vertex = first; vertex < last; ++vertex) {
+    if (const PositionConstraint* constraint = constraints_.of(vertex);
+        constraint != nullptr && is_penalty(constraint)) {
+      constraint_forces_.col(vertex) =
+          constraint->stiffness * constraint->gap(positions_.col(vertex));
+    }
+  }
 }
 
 StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
@@ -178,38 +210,31 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   // Only the clusters whose held set changed since the last step are refitted.
   const int refits = matcher_.hold_changes(kinematic_);
   const int num_clusters = matcher_.num_clusters();
-  [[maybe_unused]] const bool parallel = matcher_.worth_parallel();
+  const bool parallel = matcher_.worth_parallel();
+  const int num_chunks = (num_vertices_ + kParticleChunk - 1) / kParticleChunk;
+  const auto chunk_end = [&](int chunk) {
+    return std::min(num_vertices_, (chunk + 1) * kParticleChunk);
+  };
   // Dynamic schedules: cluster sizes differ (73 to 142 particles on the liver), and on a shared
   // machine a thread held up by another process does not hold back a fixed share. Each cluster
   // and particle is computed the same whichever thread takes it, and the per-particle gathers
   // run in a fixed order: the results are bit-identical on any number of threads.
-#pragma omp parallel if (parallel)
-  {
-#pragma omp for schedule(dynamic, kParticleChunk) nowait
-    for (int v = 0; v < num_vertices_; ++v) {
-      predict(v, dt, input);
-    }
-#pragma omp for schedule(dynamic, 1)
-    for (int c = 0; c < refits; ++c) {
-      matcher_.refit_held(c);
-    }
+  maybe_parallel(parallel, [&] {
+    team_loop(parallel, num_chunks,
+              [&](int chunk) { predict(chunk * kParticleChunk, chunk_end(chunk), dt, input); });
+    team_loop(parallel, refits, [&](int c) { matcher_.refit_held(c); });
     for (int pass = 0; pass < params_.iterations; ++pass) {
-#pragma omp for schedule(dynamic, 1)
-      for (int k = 0; k < num_clusters; ++k) {
+      team_loop(parallel, num_clusters, [&](int k) {
         const auto slot = static_cast<std::size_t>(k);
         const int taken = matcher_.match_cluster(k, positions_);
         cluster_iterations_[slot] = pass == 0 ? taken : std::max(cluster_iterations_[slot], taken);
-      }
-#pragma omp for schedule(dynamic, kParticleChunk)
-      for (int v = 0; v < num_vertices_; ++v) {
-        pull(v, dt);
-      }
+      });
+      team_loop(parallel, num_chunks,
+                [&](int chunk) { pull(chunk * kParticleChunk, chunk_end(chunk), dt); });
     }
-#pragma omp for schedule(dynamic, kParticleChunk)
-    for (int v = 0; v < num_vertices_; ++v) {
-      finish(v);
-    }
-  }
+    team_loop(parallel, num_chunks,
+              [&](int chunk) { finish(chunk * kParticleChunk, chunk_end(chunk)); });
+  });
 
   // Serial reductions in a fixed order: the same stats on any number of threads.
   StepStats stats;
@@ -226,7 +251,7 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   }
   stats.residual =
       free_particles > 0 ? std::sqrt(squared_residuals_.sum() / free_particles) / diagonal_ : 0.0;
-  stats.finite = positions_.allFinite() && velocities_.allFinite();
+  stats.finite = state_finite(positions_, velocities_);
   constraints_.unbind();
   return stats;
 }

@@ -54,17 +54,27 @@ class ShapeMatchingModel final : public SoftBody {
   const Eigen::Matrix3Xd& predicted_positions() const { return predicted_; }
 
  private:
-  /// v* and x* of one particle (or its target, for an exact constraint).
-  void predict(int vertex, double dt, const StepInput& input);
-  /// One alpha pull of the particle toward its goal: moves it and its velocity, and sums the
-  /// reaction of an exact constraint.
-  void pull(int vertex, double dt);
-  /// After the last pull: the force of a penalty constraint (0 for a free particle).
-  void finish(int vertex);
+  /// v* and x* of particles [first, last) (their targets, for exact constraints).
+  void predict(int first, int last, double dt, const StepInput& input);
+  /// v* and x* of a constrained particle, into flight_ and predicted_, from its state before the
+  /// step; an exact constraint's reaction starts here.
+  void predict_constrained(int vertex,
+                           const PositionConstraint& constraint,
+                           double dt,
+                           const StepInput& input);
+  /// One alpha pull of particles [first, last) toward their goals: moves them and their
+  /// velocities, and sums the reactions of exact constraints.
+  void pull(int first, int last, double dt);
+  /// An exactly held particle's part of a pull: towards_ keeps what its hold leaves free, the
+  /// rest is its reaction.
+  void pull_held(int vertex, const PositionConstraint& constraint, double dt);
+  /// After the last pull: the forces of penalty constraints among particles [first, last).
+  void finish(int first, int last);
 
   ShapeMatchingParams params_;
   int num_vertices_ = 0;
   Eigen::VectorXd masses_;
+  Eigen::VectorXd inverse_masses_;
   Eigen::Matrix3Xd rest_positions_;
   double diagonal_ = 1.0;  ///< m, the rest bounding-box diagonal (for the residual)
   Clusters clusters_;
@@ -77,6 +87,8 @@ class ShapeMatchingModel final : public SoftBody {
 
   // Per-step work arrays, sized once.
   Eigen::Matrix3Xd predicted_;           ///< x*
+  Eigen::Matrix3Xd flight_;              ///< v*, while predict() makes it
+  Eigen::Matrix3Xd towards_;             ///< a pass's g - x, less what holds deny
   Eigen::VectorXd squared_residuals_;    ///< |g - x*|^2 per particle (0 if exactly held)
   std::vector<int> cluster_iterations_;  ///< rotation iterations per cluster
   VertexConstraints constraints_;        ///< the step's constraint per vertex

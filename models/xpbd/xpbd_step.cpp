@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The XPBD step: substeps, the Gauss-Seidel sweep over the tets, holds and their forces.
+#include "models/finite_state.h"
 #include "models/xpbd/xpbd_model.h"
 
 #include <Eigen/LU>
@@ -83,8 +84,12 @@ inline Pair gradient_scale(Pair invariant, Pair constraint) {
   return Pair{gradient_scale(invariant[0], constraint[0]),
               gradient_scale(invariant[1], constraint[1])};
 }
-inline double positive_part(double x) { return x > 0.0 ? x : 0.0; }
-inline Pair positive_part(Pair x) { return Pair{positive_part(x[0]), positive_part(x[1])}; }
+inline double positive_part(double x) {
+  return x > 0.0 ? x : 0.0;
+}
+inline Pair positive_part(Pair x) {
+  return Pair{positive_part(x[0]), positive_part(x[1])};
+}
 
 /// One tet's (or a pair's) gradients. With Ds = [x1 - x0, x2 - x0, x3 - x0], R = Dm^-1 and
 /// F = Ds R, the gradients at vertices 1..3 are the columns of dC/dF R^T:
@@ -206,10 +211,9 @@ inline void XpbdModel::project_tet(std::size_t t,
   Eigen::Vector2d& lambda = multipliers_[t];
   double cd = 0.0;
   double ch = 0.0;
-  solve_pair_system(g, b11, b12, b22, tet.det_rest_inverse,
-                    tet.inverse_volume * deviatoric_compliance,
-                    tet.inverse_volume * hydrostatic_compliance, law_.alpha, lambda[0], lambda[1],
-                    cd, ch);
+  solve_pair_system(
+      g, b11, b12, b22, tet.det_rest_inverse, tet.inverse_volume * deviatoric_compliance,
+      tet.inverse_volume * hydrostatic_compliance, law_.alpha, lambda[0], lambda[1], cd, ch);
   for (int a = 0; a < 4; ++a) {
     const int v = tet.vertices[a];
     double impulse[3];
@@ -412,7 +416,7 @@ StepStats XpbdModel::step(double dt, const StepInput& input) {
   unbind();
   stats.iterations = substeps * params_.iterations;
   stats.residual = residual();
-  stats.finite = stats.finite && std::isfinite(stats.residual) && velocities_.allFinite();
+  stats.finite = stats.finite && std::isfinite(stats.residual) && all_finite(velocities_);
   return stats;
 }
 

@@ -14,11 +14,21 @@ namespace softbench {
 /// scalar code where the target has no such registers): the mass-spring loops take two springs
 /// at a time, the block products two vectors at a time.
 using Pair = double __attribute__((vector_size(16)));
+/// Four doubles: one AVX register where the build targets it (x86-64-v3), two SSE2 ones
+/// otherwise. The block products take four vectors at a time, shape matching's moments four
+/// members.
+using Quad = double __attribute__((vector_size(32)));
 
 inline Pair load_pair(const double* at) {
   Pair pair;
   std::memcpy(&pair, at, sizeof(pair));
   return pair;
+}
+
+inline Quad load_quad(const double* at) {
+  Quad quad;
+  std::memcpy(&quad, at, sizeof(quad));
+  return quad;
 }
 
 inline void store_pair(double* at, Pair pair) {
