@@ -15,6 +15,8 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <limits>
+#include <stdexcept>
 
 namespace softbench::shape_matching {
 namespace {
@@ -281,8 +283,10 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
   for (int i = 0; i < num_particles; ++i) {
     particle_offsets_[index(i) + 1] += particle_offsets_[index(i)];
   }
-  slot_start_.resize(member_particle_.size());
-  slot_stride_.resize(member_particle_.size());
+  if (work_.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw std::length_error("ClusterMatcher: more than 700 million memberships");
+  }
+  goal_slots_.resize(member_particle_.size());
   slot_cluster_.resize(member_particle_.size());
   std::vector<int> next(particle_offsets_.begin(), particle_offsets_.end() - 1);
   for (int k = 0; k < num_clusters(); ++k) {
@@ -290,8 +294,7 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
     const int size = cluster_end(k) - begin;
     for (int m = begin; m < cluster_end(k); ++m) {
       const int slot = next[index(member_particle_[index(m)])]++;
-      slot_start_[index(slot)] = 3 * static_cast<std::ptrdiff_t>(begin) + (m - begin);
-      slot_stride_[index(slot)] = size;
+      goal_slots_[index(slot)] = {3 * begin + (m - begin), size};
       slot_cluster_[index(slot)] = k;
     }
   }
@@ -769,7 +772,7 @@ Eigen::Vector3d ClusterMatcher::held_pull(int particle) const {
     const HeldCluster& held = held_pool_[index(slot)];
     const int begin = cluster_begin(cluster);
     const int size = cluster_end(cluster) - begin;
-    const std::ptrdiff_t j = slot_start_[index(s)] - 3 * static_cast<std::ptrdiff_t>(begin);
+    const std::ptrdiff_t j = goal_slots_[index(s)].start - 3 * static_cast<std::ptrdiff_t>(begin);
     const double* b = basis_.data() + static_cast<std::ptrdiff_t>(dim_) * begin + j;
     const Eigen::Vector3d q(b[0], b[size], b[2 * static_cast<std::ptrdiff_t>(size)]);
     sum += held.pull + held.pull_moment * (q - held.mean.head<3>());
@@ -847,8 +850,7 @@ std::size_t ClusterMatcher::memory_bytes() const {
          + scale_.size() * sizeof(double) + moment_inverse_.size() * sizeof(double)
          + (rest_centres_.size() + reference_.size()) * sizeof(double)
          + rotations_.size() * sizeof(Eigen::Quaterniond) + particle_offsets_.size() * sizeof(int)
-         + slot_start_.size() * sizeof(std::ptrdiff_t)
-         + slot_stride_.size() * sizeof(std::ptrdiff_t) + slot_cluster_.size() * sizeof(int)
+         + goal_slots_.size() * sizeof(GoalSlot) + slot_cluster_.size() * sizeof(int)
          + static_cast<std::size_t>(inverse_count_.size()) * sizeof(double) + held_bytes();
 }
 

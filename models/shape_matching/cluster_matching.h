@@ -96,9 +96,9 @@ class ClusterMatcher {
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();
     for (int s = particle_offsets_[index(particle)]; s < particle_offsets_[index(particle) + 1];
          ++s) {
-      const double* slot = work_.data() + slot_start_[index(s)];
-      const std::ptrdiff_t stride = slot_stride_[index(s)];
-      sum += Eigen::Vector3d(slot[0], slot[stride], slot[2 * stride]);
+      const GoalSlot slot = goal_slots_[index(s)];
+      const double* x = work_.data() + slot.start;
+      sum += Eigen::Vector3d(x[0], x[slot.stride], x[2 * slot.stride]);
     }
     return sum * inverse_count_(particle);
   }
@@ -218,11 +218,17 @@ class ClusterMatcher {
   std::vector<int> match_iterations_;  ///< match()'s rotation iterations per cluster
 
   // Per particle: its memberships (compressed rows), as where their goals sit in work_.
-  std::vector<int> particle_offsets_;        ///< #P + 1
-  std::vector<std::ptrdiff_t> slot_start_;   ///< index of the goal's x in work_
-  std::vector<std::ptrdiff_t> slot_stride_;  ///< distance to its y (and from y to z)
-  std::vector<int> slot_cluster_;            ///< the membership's cluster
-  Eigen::VectorXd inverse_count_;            ///< 1 / number of clusters holding the particle
+  std::vector<int> particle_offsets_;  ///< #P + 1
+  /// Where a membership's goal sits in work_: its x, and the distance to its y (and from y to
+  /// z). 32-bit, side by side: the per-particle gathers read one 8-byte entry a membership (work_
+  /// is limited to 2^31 values: 700 million memberships).
+  struct GoalSlot {
+    int start;
+    int stride;
+  };
+  std::vector<GoalSlot> goal_slots_;
+  std::vector<int> slot_cluster_;  ///< the membership's cluster
+  Eigen::VectorXd inverse_count_;  ///< 1 / number of clusters holding the particle
 
   // Held particles.
   std::vector<unsigned char> held_flags_;     ///< per particle: 1 if held (the last hold())
