@@ -8,7 +8,8 @@
 // Setting: the liver_gravity scene (its material, gravity, fixed band and model blocks, so
 // bullet_softbody runs with the stiffness `softbench calibrate` fitted) on liver.msh and its
 // refinement liver_x4.msh, from rest. Our models run first (each registered model with the
-// scene's block at the scene's dt), then the Bullet variants.
+// scene's block at the scene's dt; shape matching also as the thesis stepped it,
+// shape_matching:thesis_one_pass), then the Bullet variants.
 //
 // Counters (per step unless stated):
 // - steps_per_s (rate), mean_iterations (CG iterations for bullet_deformable and our implicit

@@ -54,6 +54,16 @@
 //   2026-11-28, x86-64-v3 build, a slow hour (medians of 3): thesis 397 us, thesis_one_pass
 //   117 us (8,500 steps/s); bullet_softbody's step in step_bench a minute later 1.05 ms, 9.0x
 //   the one pass.
+//   2026-12-02, same build flags (medians of 3): before, thesis 285 us, thesis_one_pass 87.2 us
+//   (11,500 steps/s). After the moments in four-lane sums (the centre of mass in their first
+//   pass), the three goal rows in one pass, the per-particle flight and pulls vectorised over
+//   blocks of 256 (constrained particles apart) and no OpenMP region on one thread:
+//   thesis_one_pass 49-53 us in six runs (18,900-20,400 steps/s), thesis 203 us, linear 145,
+//   one_cluster 61.0, linear_one_cluster 52.3; BM_ShapeMatchingHolds free 182 us, pinned 201 us
+//   (1.10x), contact 225 us (1.24x). Same positions and goals to round-off: the sums' order
+//   changed, the tests' tolerances hold. In bullet_bench, same process: bullet_softbody's step
+//   14.1-14.3x shape_matching:thesis_one_pass's in two runs of three, 12.2x in the third (its
+//   first after a build: 73 us there).
 #include "bench/bench_liver.h"
 #include "bench/thread_cpu_clock.h"
 #include "geometry/mesh_data.h"
