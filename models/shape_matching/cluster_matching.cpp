@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -402,10 +401,10 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   double* pz = py + n;
   const double* x = positions.data();
 
-  // One pass: the mass-weighted offsets m_i (x_i - r) / M from a reference point r near the
-  // cluster (its centre of mass of the last match), and the centre of mass c = r + sum of
-  // them. The basis rows have zero weighted mean, so sum m_i (x_i - r) b_i^T = sum m_i
-  // (x_i - c) b_i^T: no second pass to subtract c; r only keeps the differences small.
+  // The mass-weighted offsets m_i (x_i - r) / M from a reference point r near the cluster (its
+  // centre of mass of the last match); the centre of mass c = r + their sum, which the moments'
+  // first pass adds up. The basis rows have zero weighted mean, so sum m_i (x_i - r) b_i^T =
+  // sum m_i (x_i - c) b_i^T: no second pass to subtract c; r only keeps the differences small.
   double* reference = reference_.data() + 3 * index(cluster);
   const double rx = reference[0];
   const double ry = reference[1];
