@@ -23,6 +23,16 @@ void team_loop(bool shared, int count, const Body& body) {
   }
 }
 
+/// body(first, last) for consecutive blocks [first, last) of `block` indices covering [0, count)
+/// (the last one shorter), split as team_loop() splits its indices.
+template <typename Body>
+void team_blocks(bool shared, int count, int block, const Body& body) {
+  team_loop(shared, (count + block - 1) / block, [&](int b) {
+    const int first = b * block;
+    body(first, count - first < block ? count : first + block);
+  });
+}
+
 /// run() inside an OpenMP parallel region when `parallel` (its team_loop(true, ...) calls then
 /// split their loops), else on the calling thread alone.
 template <typename Run>

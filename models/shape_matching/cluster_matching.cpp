@@ -802,9 +802,8 @@ int ClusterMatcher::match(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd& g
   maybe_parallel(parallel, [&] {
     team_loop(parallel, clusters,
               [&](int k) { match_iterations_[index(k)] = match_cluster(k, positions); });
-    team_loop(parallel, (particles + kParticleChunk - 1) / kParticleChunk, [&](int chunk) {
-      for (int i = chunk * kParticleChunk; i < std::min(particles, (chunk + 1) * kParticleChunk);
-           ++i) {
+    team_blocks(parallel, particles, kParticleChunk, [&](int first, int last) {
+      for (int i = first; i < last; ++i) {
         goals.col(i) = goal(i);
       }
     });

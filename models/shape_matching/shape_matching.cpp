@@ -18,8 +18,6 @@ namespace softbench {
 namespace shape_matching {
 namespace {
 
-constexpr int kParticleChunk = ClusterMatcher::kParticleChunk;
-
 Clusters clusters_for(const TetMesh& mesh, const ShapeMatchingParams& params) {
   return build_clusters(mesh.rest_positions(),
                         {params.clusters, params.cluster_radius, params.particles_per_cluster});
@@ -211,17 +209,14 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
   const int refits = matcher_.hold_changes(kinematic_);
   const int num_clusters = matcher_.num_clusters();
   const bool parallel = matcher_.worth_parallel();
-  const int num_chunks = (num_vertices_ + kParticleChunk - 1) / kParticleChunk;
-  const auto chunk_end = [&](int chunk) {
-    return std::min(num_vertices_, (chunk + 1) * kParticleChunk);
-  };
+  constexpr int kChunk = ClusterMatcher::kParticleChunk;
   // Dynamic schedules: cluster sizes differ (73 to 142 particles on the liver), and on a shared
   // machine a thread held up by another process does not hold back a fixed share. Each cluster
   // and particle is computed the same whichever thread takes it, and the per-particle gathers
   // run in a fixed order: the results are bit-identical on any number of threads.
   maybe_parallel(parallel, [&] {
-    team_loop(parallel, num_chunks,
-              [&](int chunk) { predict(chunk * kParticleChunk, chunk_end(chunk), dt, input); });
+    team_blocks(parallel, num_vertices_, kChunk,
+                [&](int first, int last) { predict(first, last, dt, input); });
     team_loop(parallel, refits, [&](int c) { matcher_.refit_held(c); });
     for (int pass = 0; pass < params_.iterations; ++pass) {
       team_loop(parallel, num_clusters, [&](int k) {
@@ -229,11 +224,10 @@ StepStats ShapeMatchingModel::step(double dt, const StepInput& input) {
         const int taken = matcher_.match_cluster(k, positions_);
         cluster_iterations_[slot] = pass == 0 ? taken : std::max(cluster_iterations_[slot], taken);
       });
-      team_loop(parallel, num_chunks,
-                [&](int chunk) { pull(chunk * kParticleChunk, chunk_end(chunk), dt); });
+      team_blocks(parallel, num_vertices_, kChunk,
+                  [&](int first, int last) { pull(first, last, dt); });
     }
-    team_loop(parallel, num_chunks,
-              [&](int chunk) { finish(chunk * kParticleChunk, chunk_end(chunk)); });
+    team_blocks(parallel, num_vertices_, kChunk, [&](int first, int last) { finish(first, last); });
   });
 
   // Serial reductions in a fixed order: the same stats on any number of threads.
