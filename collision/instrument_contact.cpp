@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "collision/instrument_contact.h"
 
+#include "collision/instrument_samples.h"
 #include "geometry/input_error.h"
 #include "geometry/mesh_topology.h"
 
@@ -44,64 +45,6 @@ Eigen::Vector3d direction(const Eigen::Vector3d& from,
   const Eigen::Vector3d d = to - from;
   const double length = d.norm();
   return length > 1e-12 ? Eigen::Vector3d(d / length) : fallback;
-}
-
-// Points on the instrument's surface no farther apart than `spacing`: its vertices plus, on each
-// triangle longer than that, a barycentric grid. A coarse instrument (a cube of 12 triangles)
-// presses the tissue with its faces, not only its corners.
-/// The most points surface_samples() makes: 48 MB, and a query each per contact pass. A tool
-/// that needs more is far larger than the tissue's edges (a mesh in millimetres beside tissue
-/// in metres samples a million times more points): refused before anything is allocated.
-constexpr double kMaxSamples = 2'000'000;
-
-Eigen::Matrix3Xd surface_samples(const TriMesh& mesh, double spacing) {
-  // Counted first, in doubles (a huge tool overflows an int), then allocated.
-  double count = static_cast<double>(mesh.vertices.cols());
-  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
-    const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
-    const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t));
-    const double n =
-        std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / spacing);
-    count += 0.5 * (n + 1.0) * (n + 2.0);
-  }
-  if (!(count <= kMaxSamples)) {
-    throw InputError("InstrumentContact: the instrument mesh would take "
-                     + std::to_string(static_cast<long long>(std::min(count, 1e18)))
-                     + " contact points at the tissue's edge spacing (" + std::to_string(spacing)
-                     + " m), more than the limit of "
-                     + std::to_string(static_cast<long long>(kMaxSamples))
-                     + ": is it in other units than the tissue (millimetres beside metres)?");
-  }
-  std::vector<Eigen::Vector3d> samples;
-  samples.reserve(static_cast<std::size_t>(count));
-  for (Eigen::Index v = 0; v < mesh.vertices.cols(); ++v) {
-    samples.emplace_back(mesh.vertices.col(v));
-  }
-  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
-    const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
-    const Eigen::Vector3d c = mesh.vertices.col(mesh.triangles(2, t));
-    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = static_cast<int>(std::ceil(longest / spacing));
-    // Grid points i/n, j/n of the triangle, corners excluded (they are vertices); edge points
-    // are shared with the neighbour and may repeat, which costs a query, not an answer.
-    for (int i = 0; i <= n; ++i) {
-      for (int j = 0; i + j <= n; ++j) {
-        if ((i == 0 && j == 0) || i == n || j == n) {
-          continue;
-        }
-        const double u = static_cast<double>(i) / n;
-        const double w = static_cast<double>(j) / n;
-        samples.emplace_back(a + u * (b - a) + w * (c - a));
-      }
-    }
-  }
-  Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(samples.size()));
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    points.col(static_cast<Eigen::Index>(i)) = samples[i];
-  }
-  return points;
 }
 
 // Half the tissue surface's mean edge length: the instrument samples no tissue triangle can pass
@@ -149,7 +92,7 @@ InstrumentContact::InstrumentContact(const Eigen::Matrix3Xd& tissue_positions,
       instrument_local_(instrument.vertices),
       instrument_world_(instrument.vertices),
       spacing_(sample_spacing(tissue_positions, tissue_surface)),
-      samples_local_(surface_samples(instrument, spacing_)),
+      samples_local_(instrument_samples(instrument, spacing_)),
       clearance_(samples_local_.cols(), instrument.vertices) {
   require_closed(tissue_surface, static_cast<int>(tissue_positions.cols()), "tissue surface");
   require_closed(instrument.triangles, instrument.num_vertices(), "instrument mesh");

@@ -12,9 +12,9 @@
 //     barycentric weights (the least-norm vertex displacements that move that point of the
 //     triangle by the push). The points are the instrument's vertices plus samples on its
 //     faces no farther apart than half the tissue surface's mean edge, so that no tissue
-//     triangle passes between them. A point "inside" by the pseudonormal test but behind a fold
-//     of the tissue's surface (its push would be into the instrument, or it is deeper than the
-//     step's motion can bring it) pushes nothing.
+//     triangle passes between them (collision/instrument_samples.h). A point "inside" by the
+//     pseudonormal test but behind a fold of the tissue's surface (its push would be into the
+//     instrument, or it is deeper than the step's motion can bring it) pushes nothing.
 // A vertex that several contacts move keeps the largest move. Contact is judged on the tissue
 // where it is and where it would be at the step's end without contact (x + dt v). Contacts hold
 // while tissue and instrument are within twice the margin and the previous step's constraint

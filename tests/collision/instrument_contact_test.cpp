@@ -17,7 +17,7 @@ using ::testing::HasSubstr;
 
 // A tool in millimetres beside tissue in metres is a thousand times larger than meant: sampled at
 // the tissue's edge spacing it would take a million times the points. Refused with the limit,
-// before any allocation, not run out of memory.
+// before any allocation, not run out of memory or time.
 TEST(InstrumentContact, RefusesAToolThatWouldTakeMoreThanTheSampleLimit) {
   const TriMesh tissue = icosphere(2, 0.01);  // 1 cm, edges about 3 mm
   const TriMesh probe = icosphere(1, 0.002);
@@ -30,9 +30,9 @@ TEST(InstrumentContact, RefusesAToolThatWouldTakeMoreThanTheSampleLimit) {
   } catch (const InputError& error) {
     // The harness puts the instrument's file before it.
     EXPECT_STREQ(error.what(),
-                 "InstrumentContact: the instrument mesh would take 27589242 contact points at the "
-                 "tissue's edge spacing (0.001492 m), more than the limit of 2000000: is it in "
-                 "other units than the tissue (millimetres beside metres)?");
+                 "InstrumentContact: the instrument mesh would take 439966922 candidate contact "
+                 "points at the tissue's edge spacing (0.001492 m), more than the limit of "
+                 "4000000: is it in other units than the tissue (millimetres beside metres)?");
   }
 }
 
