@@ -59,11 +59,31 @@
 // Shape matching stepped as the thesis stepped it (2026-12-02, medians of 3): its step is 0.067
 // ms on press (0.26 with the scene's four passes) and the contact about the same as with four
 // passes (mean 0.49 ms, touching 1.70, worst 5.5): 1,720 steps/s with contact. On pull the one
-// pass lets the liver crumple around the grasp and the contact is not bounded: mean 59.8 ms a
-// step, touching 22.5, worst 206 ms, 605 triangle pairs (the scene's four passes: 0.018 ms,
-// none). 78% of it is the refinement passes' nearest-point searches of the grasp's points inside
-// the crumpled tissue (hold_tissue_around_points), whose radius grows with the fastest tissue
-// vertex's move in the step.
+// pass lets the liver crumple around the grasp: mean 59.8 ms a step, touching 22.5, worst 206
+// ms, 605 triangle pairs (the scene's four passes: 0.018 ms, none). 78% of it was the
+// refinement passes' nearest-point searches of the probe's points in and around the crumpled
+// tissue (hold_tissue_around_points): about 2,800 of its 4,226 points a pass, on ~9.5 passes a
+// step, 91% of them found outside within 3 mm (the tissue wrapped around the shaft; each pass
+// moves it ~3 mm, so no clearance survives from one pass to the next).
+//
+// The probe's points were then made as collision/instrument_samples.h makes them (every vertex,
+// the grid thinned to 0.43 spacings: 900 points instead of 4,226 at the same cover). Three runs
+// of each build alternated, medians of their medians, contact ms per step, before -> after:
+//
+//   scene / model                     mean            touching        worst
+//   press / corotational_fem          0.152 -> 0.090  0.360 -> 0.250  1.67-1.98 -> 0.90-1.00
+//   press / shape_matching            0.445 -> 0.206  1.21 -> 0.762   10.7-13.0 -> 2.8-3.1
+//   press / shape_matching one pass   0.564 -> 0.232  1.99 -> 0.795   5.2-7.0 -> 1.8-2.3
+//   pull / corotational_fem           0.064 -> 0.055  0.180 -> 0.160  0.48-0.59 -> 0.33-0.39
+//   pull / shape_matching             0.018 -> 0.017  0.018 -> 0.017  0.10-0.13 -> 0.08-0.09
+//   pull / shape_matching one pass    61.5 -> 15.1    24.5 -> 11.7    222-265 -> 44-52
+//
+// (the model's step beside it: corotational_fem 1.0-1.4 ms, the VM's speed moving between
+// runs). softbench run's liver_press: corotational_fem's tool force the same to 0.5% of its peak
+// at every step, its peak 0.4271 N both (0.4285 N with the grid of step spacing / 4 unthinned);
+// liver_pull bit for bit the same. The pull in one pass is bounded by the contact passes'
+// cap and the points: at most 32 passes of 900 searches (about 2 us each where the tissue wraps
+// the shaft), some 60 ms; it is that crumpling, not the contact, that costs.
 #include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "harness/run/scene_mesh.h"
