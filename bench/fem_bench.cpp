@@ -25,10 +25,10 @@
 // defaults trade).
 //
 // Threads: T is set with omp_set_num_threads inside the benchmark. The model parallelises from
-// 1024 vertices (liver.msh has 1215), each step on the threads or on one as ThreadChoice finds
-// faster (models/thread_choice.h: on a shared 2-core machine a short region loses more to a
-// descheduled thread than it gains). With T = 2 the run takes more steps in its time than with
-// T = 1, and the liver's later steps, nearer rest, need fewer iterations: compare
+// 2048 vertices (liver.msh, 1215, runs on one thread), each step on the threads or on one as
+// ThreadChoice finds faster (models/thread_choice.h: on a shared 2-core machine a short region
+// loses more to a descheduled thread than it gains). With T = 2 the run takes more steps in its
+// time than with T = 1, and the liver's later steps, nearer rest, need fewer iterations: compare
 // mean_iterations before reading the ratio. CHOLMOD calls OpenBLAS, whose pthreads are separate
 // (OPENBLAS_NUM_THREADS): run the CHOLMOD variants with OMP_WAIT_POLICY=passive (our idle OpenMP
 // threads otherwise spin on the cores OpenBLAS needs: liver_x4 107 -> 82 ms), the CG variants
@@ -125,6 +125,12 @@
 // (the runs' iteration counts differ as their lengths do: two threads run more steps in the
 // time, nearer rest). Under a busy second core the liver took 1.22 / 1.20 ms on one / two
 // threads: no step of the second ran on the threads.
+//
+// 2026-12-02: the one-thread step had come down to 1.0 ms on the liver, and two threads no longer
+// won there (same process, two builds alternated, medians of 5): from 1024 vertices 1.00 /
+// 1.04 ms on one thread, 1.09 / 1.05 on two; from 2048 (the liver on one thread, as one part)
+// 1.00 / 1.02 and 1.00 / 0.99, cholmod_match 0.0173% -> 0.0146%, 4.56 iterations either way.
+// The bound is 2048 since: liver_x4 and liver_x16 run as before.
 //
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force

@@ -361,7 +361,7 @@ Comparison run_comparison(const std::vector<scenes::Scene>& scenes, const Compar
   const std::vector<ModelVariant> rows = resolve_models(options.models);
   Comparison comparison;
   // The thread count beside the CPU: the models that use OpenMP threads (the corotational FEM
-  // from 1024 vertices, step by step as they are faster) get this many.
+  // from 2048 vertices, step by step as they are faster) get this many.
   const Provenance machine = provenance();
   comparison.machine = machine.cpu + " with " + std::to_string(machine.threads) + " OpenMP thread"
                        + (machine.threads == 1 ? "" : "s");

@@ -43,9 +43,9 @@ namespace softbench {
 // updated residual); iterations: CG iterations (0 for CHOLMOD); factorizations: numeric
 // Cholesky factorisations this step.
 //
-// Threads: from 1024 vertices (the shipped liver has 1215) OpenMP over elements, vertices,
-// edges, CG chunks and the SSOR sweeps' two parts, every sum in a fixed order: results are
-// bit-identical for any thread count. Each step runs on the threads or on one, whichever has
+// Threads: from 2048 vertices (the shipped liver has 1215: one thread) OpenMP over elements,
+// vertices, edges, CG chunks and the SSOR sweeps' two parts, every sum in a fixed order: results
+// are bit-identical for any thread count. Each step runs on the threads or on one, whichever has
 // lately been faster (CorotationalFemModel::kThreadedVertices says why).
 //
 // Defaults: the fastest settings that match CHOLMOD within 1% on the shipped liver, measured

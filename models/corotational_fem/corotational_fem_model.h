@@ -56,12 +56,16 @@ class CorotationalFemModel final : public SoftBody {
   /// fewer run on one thread. The vertices are then numbered in kSweepParts parts and a
   /// separator (renumbered_for_locality()), so that the SSOR solver's sweeps run on the parts
   /// side by side. A fixed count, not the thread count: the numbering, and so every result, is
-  /// the same on any number of threads. Measured on the 2-core test machine, idle: the shipped
-  /// liver (1215 vertices, 4777 tets) 1.6-1.7 -> 1.0-1.1 ms a step on two threads (alternating
-  /// within one run). When another process holds a core, every parallel region waits for the
-  /// thread the scheduler has set aside (a step took 2-60 times as long): ThreadChoice then
-  /// runs one thread, and tries the threads only when a core is free.
-  static constexpr int kThreadedVertices = 1024;
+  /// the same on any number of threads. Measured on the 2-core test machine, idle: liver_x4
+  /// (4091 vertices) 1.48x and liver_x16 1.5-2.05x on two threads. The shipped liver (1215
+  /// vertices, 4777 tets) gained 1.6x when its step took 1.6 ms on one thread; at 1.0 ms it
+  /// gains nothing (two threads 1.05-1.09 ms against 1.00-1.04 on one in the same process,
+  /// ThreadChoice's probes included), so it stays below the bound, on one thread and numbered
+  /// as one part (closer to CHOLMOD: 0.015% against 0.017%). When another process holds a core,
+  /// every parallel region waits for the thread the scheduler has set aside (a step took 2-60
+  /// times as long): ThreadChoice then runs one thread, and tries the threads only when a core
+  /// is free.
+  static constexpr int kThreadedVertices = 2048;
   static constexpr int kSweepParts = 2;
   /// Elements side by side in the element kernels, one per vector lane.
   static constexpr int kElementLanes = 8;

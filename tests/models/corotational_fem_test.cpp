@@ -563,7 +563,7 @@ TEST(CorotationalFem, ResultsDoNotDependOnTheThreadCount) {
   // Large enough that every loop may run parallel (elements, gathers, products, the sweeps'
   // two parts). ThreadChoice runs the first two steps on one thread and the third on the
   // threads (its first try of them).
-  const TetMesh mesh = make_tet_mesh(test::box_tets(12, 9, 9, 0.40, 0.28, 0.28));
+  const TetMesh mesh = make_tet_mesh(test::box_tets(16, 12, 12, 0.40, 0.30, 0.30));
   ASSERT_GE(mesh.num_vertices(), CorotationalFemModel::kThreadedVertices);
   const std::vector<PositionConstraint> pins = pin_min_x_face(mesh);
   StepInput input;
