@@ -82,11 +82,15 @@
 //   pull / shape_matching one pass    61.5 -> 15.1    24.5 -> 11.7    222-265 -> 44-52
 //
 // (the model's step beside it: corotational_fem 1.0-1.4 ms, the VM's speed moving between
-// runs). softbench run's liver_press: corotational_fem's tool force the same to 0.5% of its peak
-// at every step, its peak 0.4271 N both (0.4285 N with the grid of step spacing / 4 unthinned);
-// liver_pull bit for bit the same. The pull in one pass is bounded by the contact passes'
-// cap and the points: at most 32 passes of 900 searches (about 2 us each where the tissue wraps
-// the shaft), some 60 ms; it is that crumpling, not the contact, that costs.
+// runs). softbench run, with the FEM's liver on one thread as well (fem_bench): corotational_fem's
+// tool force within 0.002% of its peak at every step of liver_press (peak 0.4271 N both; 0.4285
+// N with the grid of step spacing / 4 unthinned) and 0.0005% on liver_pull, shape matching's
+// on liver_pull bit for bit the same. Shape matching's force is spiky and its peak hangs on which
+// points touch first: 1.20 N before, 1.51 N after, 1.35 N with the unthinned grid (its force
+// curve 26% RMS from the unthinned grid's before, 27% after; its mean 0.153 / 0.151 / 0.164 N).
+// The pull in one pass is bounded by the contact passes' cap and the points: at most 32 passes of
+// 900 searches (about 2 us each where the tissue wraps the shaft), some 60 ms; it is that
+// crumpling, not the contact, that costs.
 #include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "harness/run/scene_mesh.h"
