@@ -173,7 +173,7 @@ Eigen::Matrix3Xd instrument_samples(const TriMesh& mesh, double spacing) {
   }
   if (!(candidates <= kMaxSampleCandidates)) {
     throw InputError("InstrumentContact: the instrument mesh would take "
-                     + std::to_string(static_cast<long long>(std::min(candidates, 1e18)))
+                     + std::to_string(static_cast<long long>(candidates < 1e18 ? candidates : 1e18))
                      + " candidate contact points at the tissue's edge spacing ("
                      + std::to_string(spacing) + " m), more than the limit of "
                      + std::to_string(static_cast<long long>(kMaxSampleCandidates))

@@ -30,8 +30,8 @@ Eigen::Matrix3Xd instrument_samples(const TriMesh& mesh, double spacing);
 inline constexpr double kSampleSeparation = 0.75 / 1.7320508075688772;
 
 /// The most grid points instrument_samples() visits before thinning (each costs 27 hash
-/// lookups, about half a microsecond; 4 million, two seconds): a tool that needs more is far
-/// larger than the tissue's edges.
-inline constexpr double kMaxSampleCandidates = 4'000'000;
+/// lookups, about half a microsecond: 2 million, one second, and at most as many points kept,
+/// 48 MB): a tool that needs more is far larger than the tissue's edges.
+inline constexpr double kMaxSampleCandidates = 2'000'000;
 
 }  // namespace softbench::collision

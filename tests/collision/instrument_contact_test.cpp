@@ -32,7 +32,7 @@ TEST(InstrumentContact, RefusesAToolThatWouldTakeMoreThanTheSampleLimit) {
     EXPECT_STREQ(error.what(),
                  "InstrumentContact: the instrument mesh would take 439966922 candidate contact "
                  "points at the tissue's edge spacing (0.001492 m), more than the limit of "
-                 "4000000: is it in other units than the tissue (millimetres beside metres)?");
+                 "2000000: is it in other units than the tissue (millimetres beside metres)?");
   }
 }
 

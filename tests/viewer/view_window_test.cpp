@@ -103,9 +103,12 @@ TEST(ViewWindow, APressDeformsTheLiverWhereItPressedAndTheWindowKeepsFiftyFrames
       }
     }
   }
-  // Measured: 10.7% of the contact region changed, 0.02% of the liver elsewhere.
+  // Measured (2026-12-02): 12.3% of the contact region changed, 0.47% of the rest (817 of
+  // 172,977 pixels: the lobe gives a little under a 2 cm press and its outline moves by a
+  // pixel). The bound is twice that: a press that moved or broke the whole liver changes tens
+  // of percent there.
   EXPECT_GT(near_changed, near / 20) << near_changed << " of " << near;
-  EXPECT_LT(far_changed, far / 200) << far_changed << " of " << far;
+  EXPECT_LT(far_changed, far / 100) << far_changed << " of " << far;
 
   std::ifstream in(report);
   const nlohmann::json measured = nlohmann::json::parse(in);
