@@ -2,13 +2,13 @@
 #include "collision/instrument_samples.h"
 
 #include "geometry/input_error.h"
+#include "geometry/mesh_topology.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <string>
-#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -45,43 +45,37 @@ struct Side {
 };
 
 std::vector<Side> sides_by_sharpness(const TriMesh& mesh) {
-  struct HalfEdge {
-    int low, high;
-    Eigen::Index triangle;
-    int k;
-  };
-  std::vector<HalfEdge> half_edges;
-  half_edges.reserve(static_cast<std::size_t>(3 * mesh.triangles.cols()));
-  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+  const Eigen::Index triangles = mesh.triangles.cols();
+  std::vector<Eigen::Vector3d> normals(static_cast<std::size_t>(triangles));
+  for (Eigen::Index t = 0; t < triangles; ++t) {
+    normals[static_cast<std::size_t>(t)] = unit_normal(mesh, t);
+  }
+  // Each edge's sides (3 t + k), in triangle order.
+  const Eigen::Matrix2Xi edges = unique_edges(mesh.triangles);
+  std::vector<int> edge_of_side(static_cast<std::size_t>(3 * triangles));
+  for (Eigen::Index t = 0; t < triangles; ++t) {
     for (int k = 0; k < 3; ++k) {
-      const int a = mesh.triangles(k, t), b = mesh.triangles((k + 1) % 3, t);
-      half_edges.push_back({std::min(a, b), std::max(a, b), t, k});
+      const auto [low, high] = std::minmax(mesh.triangles(k, t), mesh.triangles((k + 1) % 3, t));
+      edge_of_side[static_cast<std::size_t>(3 * t + k)] = edge_index(edges, low, high);
     }
   }
-  std::sort(half_edges.begin(), half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    return std::tie(x.low, x.high, x.triangle, x.k) < std::tie(y.low, y.high, y.triangle, y.k);
-  });
+  const Incidences sides_of = group_by_owner(edge_of_side, static_cast<int>(edges.cols()));
   std::vector<Side> sides;
-  sides.reserve(half_edges.size());
-  for (std::size_t first = 0; first < half_edges.size();) {
-    std::size_t last = first;
-    while (last < half_edges.size() && half_edges[last].low == half_edges[first].low
-           && half_edges[last].high == half_edges[first].high) {
-      ++last;
-    }
-    for (std::size_t i = first; i < last; ++i) {
+  sides.reserve(edge_of_side.size());
+  for (Eigen::Index e = 0; e < edges.cols(); ++e) {
+    const auto first = sides_of.items.begin() + sides_of.offsets[static_cast<std::size_t>(e)];
+    const auto last = sides_of.items.begin() + sides_of.offsets[static_cast<std::size_t>(e) + 1];
+    for (auto side = first; side != last; ++side) {
+      const Eigen::Vector3d& normal = normals[static_cast<std::size_t>(*side / 3)];
       double sharpness = 0.0;
-      for (std::size_t j = first; j < last; ++j) {
-        if (j != i) {
+      for (auto other = first; other != last; ++other) {
+        if (other != side) {
           sharpness =
-              std::max(sharpness, 1.0
-                                      - unit_normal(mesh, half_edges[i].triangle)
-                                            .dot(unit_normal(mesh, half_edges[j].triangle)));
+              std::max(sharpness, 1.0 - normal.dot(normals[static_cast<std::size_t>(*other / 3)]));
         }
       }
-      sides.push_back({sharpness, half_edges[i].triangle, half_edges[i].k});
+      sides.push_back({sharpness, *side / 3, *side % 3});
     }
-    first = last;
   }
   std::stable_sort(sides.begin(), sides.end(),
                    [](const Side& x, const Side& y) { return x.sharpness > y.sharpness; });

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "collision/instrument_samples.h"
 
+#include "geometry/mesh_measures.h"
 #include "tests/collision/bvh_test_meshes.h"
 
 #include <gtest/gtest.h>
@@ -43,18 +44,6 @@ TriMesh rod(int segments, double radius, double length) {
 
 double nearest_sample(const Eigen::Matrix3Xd& samples, const Eigen::Vector3d& p) {
   return std::sqrt((samples.colwise() - p).colwise().squaredNorm().minCoeff());
-}
-
-double surface_area(const TriMesh& mesh) {
-  double area = 0.0;
-  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
-    const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
-    area += 0.5
-            * (mesh.vertices.col(mesh.triangles(1, t)) - a)
-                  .cross(mesh.vertices.col(mesh.triangles(2, t)) - a)
-                  .norm();
-  }
-  return area;
 }
 
 struct Case {
