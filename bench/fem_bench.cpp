@@ -153,6 +153,7 @@
 #include <omp.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -190,6 +191,16 @@ std::vector<Variant> variants() {
   std::vector<Variant> result{{"cholmod", with(Params::LinearSolver::kCholmod)},
                               {"cg", with(Params::LinearSolver::kConjugateGradient)},
                               {"cholesky_pcg", with(Params::LinearSolver::kCholeskyPcg)}};
+  // The SSOR solve's coarse level: aggregates of other sizes than the default's, and the whole
+  // body as one aggregate (the default below CorotationalFemModel::kCoarseFromVertices).
+  for (const int vertices : {32, 128}) {
+    Params params;
+    params.coarse_vertices = vertices;
+    result.push_back({"cg+coarse_" + std::to_string(vertices), params});
+  }
+  Params whole_body;
+  whole_body.coarse_vertices = std::numeric_limits<int>::max();
+  result.push_back({"cg+coarse_whole_body", whole_body});
   Params jacobi;
   jacobi.preconditioner = Params::Preconditioner::kJacobi;
   result.push_back({"cg+jacobi", jacobi});

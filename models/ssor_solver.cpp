@@ -3,7 +3,6 @@
 
 #include "models/eisenstat_cg.h"
 
-#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <cmath>
@@ -38,74 +37,39 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
       num_vertices_(pattern.num_vertices()),
       diagonal_(9 * static_cast<std::size_t>(pattern.num_vertices())),
       inverse_(9 * static_cast<std::size_t>(pattern.num_vertices())),
-      row_sums_(9 * static_cast<std::size_t>(pattern.num_vertices())),
+      coarse_(pattern, grow_aggregates(pattern, options.coarse_vertices)),
       residual_(pattern.size()),
       preconditioned_(pattern.size()),
-      direction_(pattern.size()),
-      product_(pattern.size()),
       sweep_(pattern.size()),
-      carry_(pattern.size()),
-      transformed_(pattern.size()),
+      sweep_upper_(pattern.size()),
+      direction_(pattern.size()),
+      direction_upper_(pattern.size()),
+      forward_(pattern.size()),
       chunk_sums_(static_cast<std::size_t>(pattern.num_chunks())) {
 }
 
-bool SsorConjugateGradientSolver::load_columns(const BlockPattern& a) {
-  // Column c's strips: sums(i, k) adds entry (n, i) of column (c, k) over the neighbours n, i.e.
-  // (Z^T A)'s block at c, the transpose of (A Z)_c (A is symmetric); the strip of c itself is
-  // D_c. One pass over the values for both, range by range (the pattern's parts and separator
-  // side by side), Z^T A Z summed in the ranges' order.
-  /// A range's part of Z^T A Z, and whether its diagonal blocks were all invertible.
-  struct CoarseSums {
-    Eigen::Matrix3d coarse = Eigen::Matrix3d::Zero();
-    bool invertible = true;
-    CoarseSums& operator+=(const CoarseSums& other) {
-      coarse += other.coarse;
-      invertible = invertible && other.invertible;
-      return *this;
-    }
-  };
-  const CoarseSums total = over_ranges(a.part_offsets(), [&](int first, int last) {
-    CoarseSums part;
-    for (int c = first; c < last; ++c) {
-      const auto degree = static_cast<int>(a.neighbours(c).size());
-      const int own = a.own_slot(c);
-      const double* column = a.matrix().valuePtr() + a.column_values_begin(c);
-      Eigen::Map<Eigen::Matrix3d> sums(row_sums_.data() + 9 * static_cast<std::size_t>(c));
-      Eigen::Matrix3d block;
-      for (int k = 0; k < 3; ++k) {
-        double s0 = 0.0;
-        double s1 = 0.0;
-        double s2 = 0.0;
-        const double* strip = column + 3 * degree * k;
-        for (int slot = 0; slot < degree; ++slot) {
-          s0 += strip[3 * slot];
-          s1 += strip[3 * slot + 1];
-          s2 += strip[3 * slot + 2];
-        }
-        sums(0, k) = s0;
-        sums(1, k) = s1;
-        sums(2, k) = s2;
-        block.col(k) = Eigen::Map<const Eigen::Vector3d>(strip + 3 * own);
-      }
-      part.coarse += sums;
-      Eigen::Matrix3d inverse;
-      bool invertible = false;
-      block.computeInverseWithCheck(inverse, invertible);
-      if (!invertible || !inverse.allFinite()) {
-        part.invertible = false;
-        return part;
-      }
-      for (int k = 0; k < 9; ++k) {
-        diagonal_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
-            block(k / 3, k % 3);
-        inverse_[9 * static_cast<std::size_t>(c) + static_cast<std::size_t>(k)] =
-            inverse(k / 3, k % 3);
-      }
-    }
-    return part;
-  });
-  coarse_ = total.coarse;
-  return total.invertible;
+bool SsorConjugateGradientSolver::load_diagonal(const BlockPattern& a) {
+  return over_ranges(a.part_offsets(),
+                     [&](int first, int last) {
+                       RangeSums singular;
+                       for (int c = first; c < last; ++c) {
+                         const Eigen::Matrix3d block = a.get(a.vertex_block(c));
+                         Eigen::Matrix3d inverse;
+                         bool invertible = false;
+                         block.computeInverseWithCheck(inverse, invertible);
+                         if (!invertible || !inverse.allFinite()) {
+                           singular.first = 1.0;
+                           return singular;
+                         }
+                         Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(diagonal_.data()
+                                                                                  + 9 * c) = block;
+                         Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+                             inverse_.data() + 9 * c) = inverse;
+                       }
+                       return singular;
+                     })
+             .first
+         == 0.0;
 }
 
 SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
@@ -119,7 +83,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     x.setZero();
     return report;
   }
-  if (!load_columns(a)) {
+  if (!load_diagonal(a) || !coarse_.load(a)) {
     x.setConstant(std::numeric_limits<double>::quiet_NaN());
     report.succeeded = false;
     report.residual = std::numeric_limits<double>::quiet_NaN();
@@ -127,24 +91,24 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   }
   EnergyErrorEstimate estimate(
       reference_energy(a, x, offset, energy_floor(), direction_, chunk_sums_));
-  // r0 = b - A x0, with the caller's product when it has one.
-  const double* ax = start_product(a, x, known_product, product_).data();
+  const double* ax = start_product(a, x, known_product, forward_).data();
 
   const double* d = diagonal_.data();
   const double* inverse = inverse_.data();
   const double* bs = b.data();
   double* xs = x.data();
-  double* x_hat = transformed_.data();
   double* r = residual_.data();
   double* z = preconditioned_.data();
-  double* p = direction_.data();
-  double* q = product_.data();
-  double* t = sweep_.data();
-  double* g = carry_.data();
+  double* s = sweep_.data();
+  double* us = sweep_upper_.data();
+  double* t = direction_.data();
+  double* ut = direction_upper_.data();
+  double* y = forward_.data();
 
   // The sweeps run over the pattern's parts side by side (no block joins two of them) and over
   // the separator alone: after the parts forward, before them backward, as a vertex's
-  // predecessors in its sweep are then done. One part: the sweeps in vertex order.
+  // predecessors in its sweep are then done. One part: the sweeps in vertex order. The other
+  // loops run over the parts and the separator side by side.
   const std::span<const int> ranges = a.part_offsets();
   const std::span<const int> parts = ranges.first(ranges.size() - 1);
   const int separator = ranges[ranges.size() - 2];
@@ -159,143 +123,148 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     over_ranges(parts, rows);
   };
 
-  // CG on the correction x - x0 from 0: its transform x^ = (D + U) (x - x0) starts at 0, and
-  // r^ = (D + L)^-1 r0 (a forward sweep, into g). And the scale of round-off for the
-  // transformed residual: |D^-1 b|, the transformed right-hand side's size up to the coupling of
-  // the sweep (a floor at 1e-14 of it needs no more).
-  const double transformed_rhs_squared =
-      forward([&](int first, int last) {
-        RangeSums part;
-        for (int c = first; c < last; ++c) {
-          double lower[3];
-          a.neighbour_sum(c, /*lower=*/true, g, lower);
-          const double rest[3] = {bs[3 * c] - ax[3 * c] - lower[0],
-                                  bs[3 * c + 1] - ax[3 * c + 1] - lower[1],
-                                  bs[3 * c + 2] - ax[3 * c + 2] - lower[2]};
-          block_multiply(inverse + 9 * c, rest, g + 3 * c);
-          double scaled[3];
-          block_multiply(inverse + 9 * c, bs + 3 * c, scaled);
-          part.first += dot3(scaled, scaled);
-        }
-        return part;
-      }).first;
-  transformed_.setZero();
-  const auto apply_d = [d](int c, const double* in, double* out) {
-    block_multiply(d + 9 * c, in, out);
-  };
-  const EisenstatStart start = eisenstat_start(ranges, g, x_hat, r, z, p, apply_d);
-  const double roundoff = kRoundoff * std::sqrt(transformed_rhs_squared);
-
-  report.converged = start.residual_squared == 0.0;
-  const auto sweeps = [&](double beta) {
-    // Backward: p = z + beta p, t = (D + U)^-1 p, and g = p - D t, which is U t.
-    backward([&](int first, int last) {
-      for (int c = last - 1; c >= first; --c) {
-        double pc[3];
-        for (int k = 0; k < 3; ++k) {
-          pc[k] = z[3 * c + k] + beta * p[3 * c + k];
-          p[3 * c + k] = pc[k];
-        }
-        double upper[3];
-        a.neighbour_sum(c, /*lower=*/false, t, upper);
-        const double rest[3] = {pc[0] - upper[0], pc[1] - upper[1], pc[2] - upper[2]};
-        block_multiply(inverse + 9 * c, rest, t + 3 * c);
-        g[3 * c] = upper[0];
-        g[3 * c + 1] = upper[1];
-        g[3 * c + 2] = upper[2];
-      }
-      return RangeSums{};
-    });
-    // Forward: y = (D + L)^-1 g (into g), q = A^ p = t + y, and p . q.
-    return forward([&](int first, int last) {
-             RangeSums part;
-             for (int c = first; c < last; ++c) {
-               double lower[3];
-               a.neighbour_sum(c, /*lower=*/true, g, lower);
-               const double rest[3] = {g[3 * c] - lower[0], g[3 * c + 1] - lower[1],
-                                       g[3 * c + 2] - lower[2]};
-               double y[3];
-               block_multiply(inverse + 9 * c, rest, y);
-               g[3 * c] = y[0];
-               g[3 * c + 1] = y[1];
-               g[3 * c + 2] = y[2];
-               const double qc[3] = {t[3 * c] + y[0], t[3 * c + 1] + y[1], t[3 * c + 2] + y[2]};
-               q[3 * c] = qc[0];
-               q[3 * c + 1] = qc[1];
-               q[3 * c + 2] = qc[2];
-               part.first += dot3(p + 3 * c, qc);
-             }
-             return part;
-           })
-        .first;
-  };
-  eisenstat_iterations(ranges, x_hat, r, z, p, q, start.rz, roundoff, options_.tolerance,
-                       options_.max_iterations, estimate, report, sweeps, apply_d);
-
-  // x = x0 + (D + U)^-1 x^ ...
-  backward([&](int first, int last) {
-    for (int c = last - 1; c >= first; --c) {
-      double upper[3];
-      a.neighbour_sum(c, /*lower=*/false, t, upper);
-      const double rest[3] = {x_hat[3 * c] - upper[0], x_hat[3 * c + 1] - upper[1],
-                              x_hat[3 * c + 2] - upper[2]};
-      block_multiply(inverse + 9 * c, rest, t + 3 * c);
+  // The start: r0 = b - A x0, then x0 += W mu and r0 -= A W mu with E mu = W^T r0, so that
+  // W^T r0 = 0 (the coarse level solved exactly).
+  over_ranges(ranges, [&](int first, int last) {
+    for (int i = 3 * first; i < 3 * last; ++i) {
+      r[i] = bs[i] - ax[i];
+    }
+    return RangeSums{};
+  });
+  coarse_.restrict_to_coarse(ranges, r, /*product=*/false);
+  coarse_.solve();
+  over_ranges(ranges, [&](int first, int last) {
+    for (int c = first; c < last; ++c) {
+      double moved[3];
+      coarse_.product_at(c, /*upper=*/false, moved);
+      const double* shift = coarse_.translation(c);
       for (int k = 0; k < 3; ++k) {
-        xs[3 * c + k] += t[3 * c + k];
+        xs[3 * c + k] += shift[k];
+        r[3 * c + k] -= moved[k];
       }
     }
     return RangeSums{};
   });
-  // ... the system's residual b - A x = (D + L) r^ (into q; r^ is not written, so every range
-  // at once) ...
-  over_ranges(ranges, [&](int first, int last) {
+  // r^ = (D + L)^-1 r0 in place (CG runs on the correction from x0, so x^ starts at 0), z =
+  // D r^, r^ . z; and the scale of round-off for the transformed residual: |D^-1 b|, the
+  // transformed right-hand side's size up to the coupling of the sweep (a floor at 1e-14 of it
+  // needs no more).
+  const RangeSums start = forward([&](int first, int last) {
+    RangeSums part;
     for (int c = first; c < last; ++c) {
       double lower[3];
       a.neighbour_sum(c, /*lower=*/true, r, lower);
-      double own[3];
-      block_multiply(d + 9 * c, r + 3 * c, own);
-      for (int k = 0; k < 3; ++k) {
-        q[3 * c + k] = own[k] + lower[k];
-      }
+      const double rest[3] = {r[3 * c] - lower[0], r[3 * c + 1] - lower[1],
+                              r[3 * c + 2] - lower[2]};
+      block_multiply(inverse + 9 * c, rest, r + 3 * c);
+      block_multiply(d + 9 * c, r + 3 * c, z + 3 * c);
+      part.first += dot3(r + 3 * c, z + 3 * c);
+      double scaled[3];
+      block_multiply(inverse + 9 * c, bs + 3 * c, scaled);
+      part.second += dot3(scaled, scaled);
     }
-    return RangeSums{};
+    return part;
   });
-  Eigen::Vector3d residual_sum = Eigen::Vector3d::Zero();
-  for (int c = 0; c < n; ++c) {
-    for (int k = 0; k < 3; ++k) {
-      residual_sum(k) += q[3 * c + k];
-    }
-  }
-  // ... and the coarse correction on the rigid translations Z (x += Z c with Z^T A Z c =
-  // Z^T r, the A-orthogonal projection: it never increases the error's energy norm). Stiffness
-  // does not resist a translation, so the sweeps' smoothing leaves its error nearly untouched:
-  // without it a free body thrown across the scene drifted 1e-6 of its travel from its
-  // momentum balance in 1 s at the default tolerance; with it, round-off.
-  const Eigen::Vector3d shift = coarse_.ldlt().solve(residual_sum);
-  double true_squared = 0.0;
-  if (shift.allFinite() && shift.squaredNorm() > 0.0) {
-    for (int c = 0; c < n; ++c) {
-      const Eigen::Map<const Eigen::Matrix3d> sums(row_sums_.data() + 9 * c);  // (A Z)_c^T
-      const Eigen::Vector3d moved = sums.transpose() * shift;
-      for (int k = 0; k < 3; ++k) {
-        xs[3 * c + k] += shift(k);
-        q[3 * c + k] -= moved(k);
+  double rz = start.first;
+  const double roundoff = kRoundoff * std::sqrt(start.second);
+  direction_.setZero();
+  direction_upper_.setZero();
+
+  report.converged = rz == 0.0;
+  double beta = 0.0;
+  while (!report.converged && report.iterations < options_.max_iterations) {
+    ++report.iterations;
+    // Backward: s = (D + U)^-1 z, and U s.
+    backward([&](int first, int last) {
+      for (int c = last - 1; c >= first; --c) {
+        double upper[3];
+        a.neighbour_sum(c, /*lower=*/false, s, upper);
+        const double rest[3] = {z[3 * c] - upper[0], z[3 * c + 1] - upper[1],
+                                z[3 * c + 2] - upper[2]};
+        block_multiply(inverse + 9 * c, rest, s + 3 * c);
+        us[3 * c] = upper[0];
+        us[3 * c + 1] = upper[1];
+        us[3 * c + 2] = upper[2];
       }
+      return RangeSums{};
+    });
+    // mu = E^-1 (A W)^T s; t = beta t + s - W mu, U t likewise, and p . A^ p = t^T A t.
+    coarse_.restrict_to_coarse(ranges, s, /*product=*/true);
+    coarse_.solve();
+    const double curvature = over_ranges(ranges, [&](int first, int last) {
+                               RangeSums part;
+                               for (int c = first; c < last; ++c) {
+                                 double moved[3];
+                                 coarse_.product_at(c, /*upper=*/true, moved);
+                                 const double* shift = coarse_.translation(c);
+                                 for (int k = 0; k < 3; ++k) {
+                                   t[3 * c + k] = beta * t[3 * c + k] + s[3 * c + k] - shift[k];
+                                   ut[3 * c + k] = beta * ut[3 * c + k] + us[3 * c + k] - moved[k];
+                                 }
+                                 double dt[3];
+                                 block_multiply(d + 9 * c, t + 3 * c, dt);
+                                 part.first +=
+                                     dot3(t + 3 * c, dt) + 2.0 * dot3(t + 3 * c, ut + 3 * c);
+                               }
+                               return part;
+                             }).first;
+    if (!(curvature > 0.0) || !std::isfinite(rz)) {
+      break;  // not positive definite, or NaN: stop with what we have
     }
+    const double alpha = rz / curvature;
+    report.error = estimate.add(report.iterations, alpha * rz);
+    // Forward: y = (D + L)^-1 U t, A^ p = t + y; x += alpha t, r^ -= alpha A^ p, z = D r^.
+    const RangeSums sums = forward([&](int first, int last) {
+      RangeSums part;
+      for (int c = first; c < last; ++c) {
+        double lower[3];
+        a.neighbour_sum(c, /*lower=*/true, y, lower);
+        const double rest[3] = {ut[3 * c] - lower[0], ut[3 * c + 1] - lower[1],
+                                ut[3 * c + 2] - lower[2]};
+        block_multiply(inverse + 9 * c, rest, y + 3 * c);
+        double rv[3];
+        for (int k = 0; k < 3; ++k) {
+          rv[k] = r[3 * c + k] - alpha * (t[3 * c + k] + y[3 * c + k]);
+          r[3 * c + k] = rv[k];
+          xs[3 * c + k] += alpha * t[3 * c + k];
+        }
+        block_multiply(d + 9 * c, rv, z + 3 * c);
+        part.first += dot3(rv, z + 3 * c);
+        part.second += dot3(rv, rv);
+      }
+      return part;
+    });
+    if (std::sqrt(sums.second) <= roundoff || sums.first == 0.0
+        || estimate.met(report.iterations, options_.tolerance)) {
+      report.converged = true;
+      break;
+    }
+    beta = sums.first / rz;
+    rz = sums.first;
   }
-  for (int c = 0; c < n; ++c) {
-    true_squared += dot3(q + 3 * c, q + 3 * c);
-  }
+
+  // The system's residual b - A x = (D + L) r^ (r^ is only read: every range at once).
+  const double true_squared = over_ranges(ranges, [&](int first, int last) {
+                                RangeSums part;
+                                for (int c = first; c < last; ++c) {
+                                  double lower[3];
+                                  a.neighbour_sum(c, /*lower=*/true, r, lower);
+                                  double own[3];
+                                  block_multiply(d + 9 * c, r + 3 * c, own);
+                                  for (int k = 0; k < 3; ++k) {
+                                    part.first += (own[k] + lower[k]) * (own[k] + lower[k]);
+                                  }
+                                }
+                                return part;
+                              }).first;
   report.residual = std::sqrt(true_squared) / rhs_norm;
   report.succeeded = std::isfinite(report.residual) && x.allFinite();
   return report;
 }
 
 std::size_t SsorConjugateGradientSolver::memory_bytes() const {
-  return (diagonal_.capacity() + inverse_.capacity() + row_sums_.capacity()
-          + chunk_sums_.capacity())
-             * sizeof(double)
-         + 7 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
+  return (diagonal_.capacity() + inverse_.capacity() + chunk_sums_.capacity()) * sizeof(double)
+         + coarse_.memory_bytes() + 7 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
 }
 
 }  // namespace softbench

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "models/block_pattern.h"
+#include "models/coarse_space.h"
 #include "models/system_solver.h"
 
 #include <Eigen/Core>
@@ -35,9 +36,17 @@ namespace softbench {
 /// count. The corotational FEM numbers its large meshes in parts and measures the solve against
 /// Jacobi-PCG per mesh size (its `preconditioner` parameter).
 ///
-/// The solve ends with a coarse correction on the three rigid translations (a two-level
-/// method's coarse step, applied once): the error the sweeps leave in a translation, which no
-/// stiffness resists, is removed exactly, so a free body keeps its momentum balance.
+/// Two levels: the iterations are deflated by a coarse space W, the translations of aggregates
+/// of vertices (CoarseSpace, LinearSolverOptions::coarse_vertices). The start is corrected so
+/// that W^T r = 0, and each new direction is made A-orthogonal to W (Saad, Yeung, Erhel and
+/// Guyomarc'h 2000: p = z + beta p - W^ mu, E mu = W^^T A^ z, with W^ = (D + U) W and E =
+/// W^^T A^ W^ = W^T A W), so every residual stays orthogonal to W: an aggregate's displacement as
+/// a whole, which the sweeps smooth slowest and which no stiffness resists on a free body, is
+/// solved exactly on the coarse level. The iteration tracks t = (D + U)^-1 p and U t instead of
+/// p: t = beta t + s - W mu with s = (D + U)^-1 z from the backward sweep (which also gives
+/// U s), W^^T A^ z = (A W)^T s, p . A^ p = t . D t + 2 t . U t, and A^ p = t + (D + L)^-1 U t
+/// from the forward sweep; x += alpha t directly. Per iteration: the two sweeps as before and
+/// two passes over the small A W and U W, and a coarse solve.
 class SsorConjugateGradientSolver final : public SystemSolver {
  public:
   SsorConjugateGradientSolver(const LinearSolverOptions& options, const BlockPattern& pattern);
@@ -49,26 +58,23 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   std::size_t memory_bytes() const override;
 
  private:
-  /// D_c and D_c^-1 of every vertex, (Z^T A)'s block at each vertex (row_sums_) and Z^T A Z
-  /// (coarse_) for the three rigid translations Z, in one pass over the matrix's values; false
-  /// if a diagonal block is singular or not finite.
-  bool load_columns(const BlockPattern& a);
+  /// D_c and D_c^-1 of every vertex; false if a diagonal block is singular or not finite.
+  bool load_diagonal(const BlockPattern& a);
 
   LinearSolverOptions options_;
   int num_vertices_ = 0;
   std::vector<double> diagonal_;  ///< 9 per vertex, row-major D_c
   std::vector<double> inverse_;   ///< 9 per vertex, D_c^-1
-  std::vector<double> row_sums_;  ///< 9 per vertex, column-major: (Z^T A)'s block at the vertex
-  Eigen::Matrix3d coarse_;        ///< Z^T A Z
+  CoarseSpace coarse_;
   // Work vectors (3 #V), sized once.
-  Eigen::VectorXd residual_;  ///< r^
-  Eigen::VectorXd preconditioned_;
-  Eigen::VectorXd direction_;
-  Eigen::VectorXd product_;
-  Eigen::VectorXd sweep_;           ///< t = (D + U)^-1 p
-  Eigen::VectorXd carry_;           ///< p - D t, then the forward sweep's y
-  Eigen::VectorXd transformed_;     ///< x^ = (D + U) (x - x0)
-  std::vector<double> chunk_sums_;  ///< the reference energy's per-chunk parts
+  Eigen::VectorXd residual_;         ///< r^
+  Eigen::VectorXd preconditioned_;   ///< z = D r^
+  Eigen::VectorXd sweep_;            ///< s = (D + U)^-1 z
+  Eigen::VectorXd sweep_upper_;      ///< U s
+  Eigen::VectorXd direction_;        ///< t = (D + U)^-1 p
+  Eigen::VectorXd direction_upper_;  ///< U t
+  Eigen::VectorXd forward_;          ///< y = (D + L)^-1 U t; the start product's scratch
+  std::vector<double> chunk_sums_;   ///< the reference energy's per-chunk parts
 };
 
 }  // namespace softbench

@@ -40,6 +40,10 @@ struct LinearSolverOptions {
     kSsor,
   };
   Preconditioner preconditioner = Preconditioner::kJacobi;
+  /// kSsor: vertices per aggregate of the two-level solve's coarse space (CoarseSpace: each
+  /// aggregate's three translations solved exactly on a coarse level); 0: one aggregate, the
+  /// whole body.
+  int coarse_vertices = 0;
   /// Iterative kinds: start from the best combination of the caller's guess and the last
   /// solutions (GalerkinWarmStart, warm_start.h; a few products a solve) instead of the guess
   /// alone.

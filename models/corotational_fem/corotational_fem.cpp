@@ -19,7 +19,7 @@ namespace softbench {
 namespace corotational_fem {
 namespace {
 
-LinearSolverOptions solver_options(const CorotationalFemParams& params) {
+LinearSolverOptions solver_options(const CorotationalFemParams& params, int num_vertices) {
   LinearSolverOptions options;
   switch (params.solver) {
     case CorotationalFemParams::LinearSolver::kCholmod:
@@ -35,6 +35,10 @@ LinearSolverOptions solver_options(const CorotationalFemParams& params) {
   options.preconditioner = params.preconditioner == CorotationalFemParams::Preconditioner::kSsor
                                ? LinearSolverOptions::Preconditioner::kSsor
                                : LinearSolverOptions::Preconditioner::kJacobi;
+  options.coarse_vertices = params.coarse_vertices;
+  if (options.coarse_vertices == 0 && num_vertices >= CorotationalFemModel::kCoarseFromVertices) {
+    options.coarse_vertices = CorotationalFemModel::kAggregateVertices;
+  }
   options.projected_warm_start = params.projected_warm_start;
   options.tolerance = params.cg_tolerance;
   options.max_iterations = params.cg_max_iterations;
@@ -109,7 +113,7 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
 
   pattern_ = std::make_unique<BlockPattern>(num_vertices_, edges);
   pattern_->set_parts(std::move(inner.part_offsets));
-  solver_ = make_system_solver(solver_options(params_), *pattern_);
+  solver_ = make_system_solver(solver_options(params_, num_vertices_), *pattern_);
 
   deformations_.resize(num_elements);
   rotations_.resize(num_elements);

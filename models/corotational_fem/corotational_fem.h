@@ -95,6 +95,12 @@ struct CorotationalFemParams {
   /// inverse diagonal, twice the iterations and 3x the error at the same tolerance, parallel
   /// over vertices from 2048 (bench/fem_bench.cpp compares them).
   Preconditioner preconditioner = Preconditioner::kSsor;
+  /// "ssor" only: vertices per aggregate of the two-level solve's coarse space (each aggregate's
+  /// three translations solved exactly, models/coarse_space.h); at least the vertex count: the
+  /// whole body one aggregate; 0: chosen by the mesh's size (CorotationalFemModel::
+  /// kCoarseFromVertices). Smaller aggregates: fewer iterations on large meshes, a larger coarse
+  /// system to factorise each step.
+  int coarse_vertices = 0;
   /// Iterative solvers: start each solve from the best combination (in the energy norm) of the
   /// last step's velocity change and the three before it (models/warm_start.h; their four
   /// products in one pass over the matrix a step) instead of the last one alone.

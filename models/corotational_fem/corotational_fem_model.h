@@ -67,6 +67,16 @@ class CorotationalFemModel final : public SoftBody {
   /// is free.
   static constexpr int kThreadedVertices = 2048;
   static constexpr int kSweepParts = 2;
+  /// The SSOR solve's coarse level when coarse_vertices is 0: from kCoarseFromVertices vertices,
+  /// aggregates of kAggregateVertices, below it the whole body as one aggregate. Measured with
+  /// fem_bench's cg+coarse_* variants (one thread, the same run): on liver_x16 aggregates of 64
+  /// took the iterations from 14.4 to 8.7 a step and the step from 53 to 41 ms (32: 7.8
+  /// iterations, but E's factorisation grows; 128: 9.4); on liver_x4 the time stayed (5.7 ms,
+  /// 8.7 -> 6.6 iterations); on the shipped liver (1215 vertices, 4.7 iterations) no aggregate
+  /// size saved an iteration's cost. In every case cholmod_match fell 10-25 fold (liver_x16
+  /// 0.041% -> 0.0020%).
+  static constexpr int kCoarseFromVertices = 2048;
+  static constexpr int kAggregateVertices = 64;
   /// Elements side by side in the element kernels, one per vector lane.
   static constexpr int kElementLanes = 8;
   /// A 3x3 matrix of each lane: column-major entries, m[i + 3 j][lane] is entry (i, j).

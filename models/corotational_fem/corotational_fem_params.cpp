@@ -52,6 +52,11 @@ ParamTable<Params> make_param_table() {
           "cg only. \"ssor\": symmetric block Gauss-Seidel, few iterations of about one "
           "product each, on one thread; \"jacobi\": the inverse diagonal, more iterations, "
           "parallel over vertices on large meshes.")
+      .integer("coarse_vertices", &Params::coarse_vertices, 0, kIntMax,
+               "ssor only: vertices per aggregate of the two-level solve's coarse level (each "
+               "aggregate's translations solved exactly); 0: by the mesh's size (aggregates of 64 "
+               "from 2048 vertices, else the whole body). Smaller: fewer iterations on large "
+               "meshes, a larger coarse system.")
       .boolean("projected_warm_start", &Params::projected_warm_start,
                "iterative solvers: start from the best combination (energy norm) of the last "
                "four velocity changes (their products in one pass over the matrix a step) instead "

@@ -6,12 +6,12 @@
 #include "harness/interrupt.h"
 #include "harness/report/model_run_json.h"
 #include "harness/report/run_report.h"
+#include "models/json_file.h"
 #include "models/json_reader.h"
 #include "models/model_registry.h"
 #include "scenes/scene.h"
 #include "tests/harness/bar_sag_scene.h"
 #include "tests/test_meshes.h"
-#include "models/json_file.h"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -20,7 +20,6 @@
 
 namespace softbench::harness {
 namespace {
-
 
 // The bar of bar_sag_scene.h.
 class RunnerTest : public ::testing::Test {
@@ -57,12 +56,12 @@ TEST_F(RunnerTest, ReportsABlowUpAsUnstableAndGoesOn) {
   RunOptions options;
   options.models = {"mass_spring"};
   // Symplectic Euler at dt = 1/30 with the thesis's damping is far beyond its stability limit.
-  const std::vector<ModelRun> runs = run_scene(
-      scene(
-          R"({"mass_spring": {"integrator": "symplectic_euler", "stiffness_from": "given",
+  const std::vector<ModelRun> runs =
+      run_scene(scene(
+                    R"({"mass_spring": {"integrator": "symplectic_euler", "stiffness_from": "given",
                               "stiffness": 180, "damping": 5}})",
-          1.0 / 30.0),
-      options);
+                    1.0 / 30.0),
+                options);
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_FALSE(runs[0].stability.stable);
   ASSERT_TRUE(runs[0].stability.diverged_at_step.has_value());
@@ -117,7 +116,7 @@ TEST_F(RunnerTest, RejectsABadBlockOfAModelNotRunBeforeAnyModelRuns) {
     EXPECT_EQ(std::string(error.what()),
               dir_.path().string()
                   + "/bar_sag.json: /models/corotational_fem/cg_tolerence: unknown key (known "
-                    "here: cg_max_iterations, cg_tolerance, formulation, preconditioner, "
+                    "here: cg_max_iterations, cg_tolerance, coarse_vertices, formulation, preconditioner, "
                     "projected_warm_start, rayleigh_mass, rayleigh_stiffness, "
                     "refresh_iterations, rotation, rotation_iterations, rotation_tolerance, "
                     "solver)");

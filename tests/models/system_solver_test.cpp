@@ -9,6 +9,7 @@
 #include "geometry/mesh_validation.h"
 #include "geometry/vertex_order.h"
 #include "models/block_pattern.h"
+#include "models/coarse_space.h"
 #include "models/warm_start.h"
 #include "tests/test_meshes.h"
 
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <span>
@@ -36,11 +38,18 @@ struct BlockSystem {
   Eigen::MatrixXd dense;  ///< the same matrix, for exact answers
 };
 
-BlockSystem elastic_like_system(unsigned seed, const MeshData& box = test::box_tets(6, 4, 3)) {
+/// `with_dense`: also the dense matrix, for exact answers (small systems only).
+BlockSystem elastic_like_system(unsigned seed,
+                                const MeshData& box = test::box_tets(6, 4, 3),
+                                bool with_dense = true) {
   const Eigen::Matrix2Xi edges = unique_edges(box.tetrahedra);
   const auto num_vertices = static_cast<int>(box.vertices.cols());
-  BlockSystem system{BlockPattern(num_vertices, edges),
-                     Eigen::MatrixXd::Zero(3 * num_vertices, 3 * num_vertices)};
+  BlockSystem system{BlockPattern(num_vertices, edges), Eigen::MatrixXd()};
+  if (with_dense) {
+    system.dense.setZero(3 * num_vertices, 3 * num_vertices);
+  }
+  std::vector<Eigen::Matrix3d> diagonal(static_cast<std::size_t>(num_vertices),
+                                        kMass * Eigen::Matrix3d::Identity());
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> entry(-1.0, 1.0);
   for (Eigen::Index e = 0; e < edges.cols(); ++e) {
@@ -51,16 +60,20 @@ BlockSystem elastic_like_system(unsigned seed, const MeshData& box = test::box_t
     const Eigen::Matrix3d block = g * g.transpose();
     const int i = edges(0, e);
     const int j = edges(1, e);
-    system.dense.block<3, 3>(3 * i, 3 * i) += block;
-    system.dense.block<3, 3>(3 * j, 3 * j) += block;
-    system.dense.block<3, 3>(3 * i, 3 * j) -= block;
-    system.dense.block<3, 3>(3 * j, 3 * i) -= block;
+    diagonal[static_cast<std::size_t>(i)] += block;
+    diagonal[static_cast<std::size_t>(j)] += block;
+    if (with_dense) {
+      system.dense.block<3, 3>(3 * i, 3 * j) -= block;
+      system.dense.block<3, 3>(3 * j, 3 * i) -= block;
+    }
     system.pattern.set(system.pattern.edge_block(static_cast<int>(e)), -block);
     system.pattern.set(system.pattern.edge_block_transposed(static_cast<int>(e)), -block);
   }
-  system.dense.diagonal().array() += kMass;
   for (int v = 0; v < num_vertices; ++v) {
-    system.pattern.set(system.pattern.vertex_block(v), system.dense.block<3, 3>(3 * v, 3 * v));
+    system.pattern.set(system.pattern.vertex_block(v), diagonal[static_cast<std::size_t>(v)]);
+    if (with_dense) {
+      system.dense.block<3, 3>(3 * v, 3 * v) = diagonal[static_cast<std::size_t>(v)];
+    }
   }
   return system;
 }
@@ -183,6 +196,155 @@ TEST(SystemSolver, SsorStartsFromTheGuessItIsGiven) {
   const SolveReport report = solver->solve(system.pattern, b, x, no_offset.data());
   EXPECT_LE(report.iterations, EnergyErrorEstimate::kDelay);
   EXPECT_LT((x - exact).norm(), 1e-9 * exact.norm());
+}
+
+/// The box's system numbered for locality (reverse Cuthill-McKee), as the models number theirs.
+BlockSystem local_elastic_system(int nx, int ny, int nz, unsigned seed, bool with_dense = true) {
+  const TetMesh box = make_tet_mesh(test::box_tets(nx, ny, nz));
+  const TetMesh local = renumbered(box, reverse_cuthill_mckee(box.tets(), box.num_vertices()));
+  MeshData data;
+  data.vertices = local.rest_positions();
+  data.tetrahedra = local.tets();
+  return elastic_like_system(seed, data, with_dense);
+}
+
+/// W (3N x 3G) of an aggregate assignment: each vertex's aggregate's three translations.
+Eigen::MatrixXd translations(const std::vector<int>& aggregate_of, int aggregates) {
+  Eigen::MatrixXd w =
+      Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(aggregate_of.size()), 3 * aggregates);
+  for (std::size_t v = 0; v < aggregate_of.size(); ++v) {
+    w.block<3, 3>(3 * static_cast<Eigen::Index>(v), 3 * aggregate_of[v]).setIdentity();
+  }
+  return w;
+}
+
+TEST(CoarseSpace, GrowsConnectedAggregatesOfAboutTheTargetSize) {
+  const BlockSystem system = local_elastic_system(12, 8, 6, 21);
+  const BlockPattern& pattern = system.pattern;
+  constexpr int kTarget = 32;
+  const std::vector<int> aggregate_of = grow_aggregates(pattern, kTarget);
+  const int aggregates = 1 + *std::max_element(aggregate_of.begin(), aggregate_of.end());
+  std::vector<int> sizes(static_cast<std::size_t>(aggregates), 0);
+  for (const int a : aggregate_of) {
+    ++sizes[static_cast<std::size_t>(a)];
+  }
+  for (int g = 0; g < aggregates; ++g) {
+    // Every id used, none below a quarter of the target.
+    EXPECT_GE(sizes[static_cast<std::size_t>(g)], kTarget / 4) << "aggregate " << g;
+    // Connected: a search from its first vertex inside it reaches all of it.
+    const auto first = static_cast<int>(std::find(aggregate_of.begin(), aggregate_of.end(), g)
+                                        - aggregate_of.begin());
+    std::vector<int> stack{first};
+    std::vector<bool> seen(aggregate_of.size(), false);
+    seen[static_cast<std::size_t>(first)] = true;
+    int reached = 0;
+    while (!stack.empty()) {
+      const int v = stack.back();
+      stack.pop_back();
+      ++reached;
+      for (const int n : pattern.neighbours(v)) {
+        if (aggregate_of[static_cast<std::size_t>(n)] == g && !seen[static_cast<std::size_t>(n)]) {
+          seen[static_cast<std::size_t>(n)] = true;
+          stack.push_back(n);
+        }
+      }
+    }
+    EXPECT_EQ(reached, sizes[static_cast<std::size_t>(g)]) << "aggregate " << g;
+  }
+  // About the target on average: 637 vertices in 32s make 20 aggregates.
+  const double mean = static_cast<double>(aggregate_of.size()) / aggregates;
+  EXPECT_GT(mean, 0.6 * kTarget);
+  EXPECT_LT(mean, 1.6 * kTarget);
+  // No target, or one beyond the vertex count: the whole body.
+  for (const int whole : {0, pattern.num_vertices()}) {
+    const std::vector<int> one = grow_aggregates(pattern, whole);
+    EXPECT_EQ(*std::max_element(one.begin(), one.end()), 0);
+  }
+}
+
+TEST(CoarseSpace, LoadsWTransposeAWAndItsProductsFromTheMatrix) {
+  const BlockSystem system = local_elastic_system(8, 5, 4, 22);
+  std::vector<int> aggregate_of = grow_aggregates(system.pattern, 20);
+  CoarseSpace coarse(system.pattern, aggregate_of);
+  ASSERT_TRUE(coarse.load(system.pattern));
+  const Eigen::MatrixXd w = translations(aggregate_of, coarse.num_aggregates());
+  const Eigen::MatrixXd aw = system.dense * w;
+  const Eigen::MatrixXd e = w.transpose() * aw;
+  const double scale = e.norm();
+  EXPECT_LT((Eigen::MatrixXd(coarse.coarse_matrix()) - e).norm(), 1e-13 * scale);
+  // (A W)^T y, on two vertex ranges side by side.
+  const Eigen::VectorXd y = random_vector(system.pattern.size(), 23);
+  const int n = system.pattern.num_vertices();
+  const std::vector<int> ranges{0, n / 2, n};
+  coarse.restrict_to_coarse(ranges, y.data(), /*product=*/true);
+  EXPECT_LT((coarse.coarse() - aw.transpose() * y).norm(), 1e-12 * (aw.transpose() * y).norm());
+  coarse.restrict_to_coarse(ranges, y.data(), /*product=*/false);
+  EXPECT_LT((coarse.coarse() - w.transpose() * y).norm(), 1e-12 * (w.transpose() * y).norm());
+  // E^-1, then A W mu and U W mu (the blocks above the diagonal) vertex by vertex.
+  const Eigen::VectorXd h = coarse.coarse();
+  coarse.solve();
+  const Eigen::VectorXd mu = coarse.coarse();
+  EXPECT_LT((e * mu - h).norm(), 1e-10 * h.norm());
+  Eigen::MatrixXd upper = system.dense.triangularView<Eigen::StrictlyUpper>();
+  for (int v = 0; v < n; ++v) {  // the diagonal block is not U's
+    upper.block<3, 3>(3 * v, 3 * v).setZero();
+  }
+  const Eigen::VectorXd full_product = aw * mu;
+  const Eigen::VectorXd upper_product = upper * w * mu;
+  for (int v = 0; v < n; ++v) {
+    double out[3];
+    coarse.product_at(v, /*upper=*/false, out);
+    EXPECT_LT((Eigen::Vector3d(out[0], out[1], out[2]) - full_product.segment<3>(3 * v)).norm(),
+              1e-10 * full_product.norm());
+    coarse.product_at(v, /*upper=*/true, out);
+    EXPECT_LT((Eigen::Vector3d(out[0], out[1], out[2]) - upper_product.segment<3>(3 * v)).norm(),
+              1e-10 * full_product.norm());
+    EXPECT_EQ(coarse.translation(v), coarse.coarse().data() + 3 * aggregate_of[v]);
+  }
+}
+
+TEST(SystemSolver, SsorWithAggregatesMeetsTheToleranceAndLeavesNoResidualOnThem) {
+  const BlockSystem system = local_elastic_system(12, 8, 6, 24);
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 25);
+  LinearSolverOptions options = cg_options(Preconditioner::kSsor, 1e-6);
+  options.coarse_vertices = 32;
+  const Eigen::VectorXd x = solve_within_tolerance(system, b, options);
+  // Deflation keeps every residual orthogonal to the coarse space: each aggregate's sum of
+  // b - A x is round-off against b's (without the deflation it would be about the residual's
+  // own size, |b| 1e-8 here).
+  const std::vector<int> aggregate_of = grow_aggregates(system.pattern, 32);
+  const Eigen::MatrixXd w =
+      translations(aggregate_of, 1 + *std::max_element(aggregate_of.begin(), aggregate_of.end()));
+  const Eigen::VectorXd residual = b - system.dense * x;
+  EXPECT_LT((w.transpose() * residual).norm(), 1e-12 * (w.transpose() * b).norm());
+}
+
+TEST(SystemSolver, SsorWithAggregatesNeedsFewerIterationsAsTheMeshIsRefined) {
+  // The same box at two resolutions (8x the vertices): the sweeps alone need more iterations on
+  // the fine one (the smooth error they leave grows with the mesh: 34 -> 58 iterations when
+  // written); with aggregates of 32 vertices the coarse level takes that error, and the
+  // iterations hardly grow (19 -> 22).
+  int iterations[2][2] = {};  // [fine][coarse level]
+  for (const bool fine : {false, true}) {
+    const BlockSystem system = fine ? local_elastic_system(24, 16, 12, 26, /*with_dense=*/false)
+                                    : local_elastic_system(12, 8, 6, 26, /*with_dense=*/false);
+    const Eigen::VectorXd b = random_vector(system.pattern.size(), 27);
+    for (const int vertices : {0, 32}) {
+      LinearSolverOptions options = cg_options(Preconditioner::kSsor, 1e-6);
+      options.coarse_vertices = vertices;
+      const auto solver = make_system_solver(options, system.pattern);
+      Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+      const SolveReport report = solver->solve(system.pattern, b, x, nullptr);
+      EXPECT_TRUE(report.converged);
+      iterations[fine ? 1 : 0][vertices > 0 ? 1 : 0] = report.iterations;
+    }
+  }
+  SCOPED_TRACE(testing::Message() << "coarse box " << iterations[0][0] << " / " << iterations[0][1]
+                                  << ", fine box " << iterations[1][0] << " / " << iterations[1][1]
+                                  << " iterations without / with aggregates");
+  EXPECT_GT(iterations[1][0], 1.4 * iterations[0][0]);
+  EXPECT_LT(iterations[1][1], 1.25 * iterations[0][1]);
+  EXPECT_LT(iterations[1][1], 0.5 * iterations[1][0]);
 }
 
 TEST(GalerkinWarmStart, FindsASolutionLyingInTheSpanOfItsVectors) {
