@@ -199,43 +199,44 @@ bool CoarseSpace::load(const BlockPattern& a) {
   return factor_->factorize(coarse_);
 }
 
-void CoarseSpace::restrict_to_coarse(std::span<const int> ranges, const double* y, bool product) {
-  const auto size = static_cast<std::size_t>(coarse_vector_.size());
+void CoarseSpace::clear_restriction() {
   std::fill(range_sums_.begin(), range_sums_.end(), 0.0);
-  // Each range's sums go to its own slice of range_sums_; a dummy RangeSums return.
-  const int* offsets = ranges.data();
+}
+
+double* CoarseSpace::restriction_slice(std::span<const int> ranges, int first, int last) {
+  std::size_t range = 0;
+  while (ranges[range] != first || ranges[range + 1] != last) {
+    ++range;
+  }
+  return range_sums_.data() + range * static_cast<std::size_t>(coarse_vector_.size());
+}
+
+void CoarseSpace::finish_restriction(std::span<const int> ranges) {
+  const Eigen::Index size = coarse_vector_.size();
+  coarse_vector_.setZero();
+  for (std::size_t range = 0; range + 1 < ranges.size(); ++range) {
+    coarse_vector_ += Eigen::Map<const Eigen::VectorXd>(
+        range_sums_.data() + range * static_cast<std::size_t>(size), size);
+  }
+}
+
+void CoarseSpace::restrict_to_coarse(std::span<const int> ranges, const double* y, bool product) {
+  clear_restriction();
   over_ranges(ranges, [&](int first, int last) {
-    std::size_t range = 0;
-    while (offsets[range] != first || offsets[range + 1] != last) {
-      ++range;
-    }
-    double* out = range_sums_.data() + range * size;
+    double* slice = restriction_slice(ranges, first, last);
     for (int v = first; v < last; ++v) {
-      const double* yv = y + 3 * v;
-      if (!product) {
-        double* o = out + 3 * aggregate(v);
-        o[0] += yv[0];
-        o[1] += yv[1];
-        o[2] += yv[2];
-        continue;
-      }
-      for (int k = touch_offsets_[static_cast<std::size_t>(v)];
-           k < touch_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
-        const double* block = full_blocks_.data() + 9 * static_cast<std::size_t>(k);
-        double* o = out + 3 * touch_aggregates_[static_cast<std::size_t>(k)];
-        // (block^T y)_i = sum_k block(k, i) y_k: column i of the block.
-        for (int i = 0; i < 3; ++i) {
-          o[i] += block[3 * i] * yv[0] + block[3 * i + 1] * yv[1] + block[3 * i + 2] * yv[2];
-        }
+      if (product) {
+        add_product(v, y + 3 * v, slice);
+      } else {
+        double* o = slice + 3 * aggregate(v);
+        o[0] += y[3 * v];
+        o[1] += y[3 * v + 1];
+        o[2] += y[3 * v + 2];
       }
     }
     return RangeSums{};
   });
-  coarse_vector_.setZero();
-  for (std::size_t range = 0; range + 1 < ranges.size(); ++range) {
-    coarse_vector_ += Eigen::Map<const Eigen::VectorXd>(range_sums_.data() + range * size,
-                                                        static_cast<Eigen::Index>(size));
-  }
+  finish_restriction(ranges);
 }
 
 void CoarseSpace::solve() {

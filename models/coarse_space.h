@@ -50,6 +50,25 @@ class CoarseSpace {
   /// coarse() = (A W)^T y (`product`) or W^T y, summed over `ranges` side by side
   /// (over_ranges()) and then in the ranges' order: the same at any thread count.
   void restrict_to_coarse(std::span<const int> ranges, const double* y, bool product);
+  /// The same in pieces, for a loop that makes y range by range (the solver's backward sweep):
+  /// clear_restriction(); in each range's loop, add_product(v, y_v, slice) for its vertices
+  /// with slice = restriction_slice(ranges, first, last); then finish_restriction(ranges).
+  void clear_restriction();
+  double* restriction_slice(std::span<const int> ranges, int first, int last);
+  /// slice += (A W)_v^T y_v.
+  void add_product(int v, const double* yv, double* slice) const {
+    const int begin = touch_offsets_[static_cast<std::size_t>(v)];
+    const int end = touch_offsets_[static_cast<std::size_t>(v) + 1];
+    const double* block = full_blocks_.data() + 9 * begin;
+    for (int k = begin; k < end; ++k, block += 9) {
+      double* o = slice + 3 * touch_aggregates_[static_cast<std::size_t>(k)];
+      // (block^T y)_i = sum_k block(k, i) y_k: column i of the block.
+      o[0] += block[0] * yv[0] + block[1] * yv[1] + block[2] * yv[2];
+      o[1] += block[3] * yv[0] + block[4] * yv[1] + block[5] * yv[2];
+      o[2] += block[6] * yv[0] + block[7] * yv[1] + block[8] * yv[2];
+    }
+  }
+  void finish_restriction(std::span<const int> ranges);
   /// coarse() = E^-1 coarse().
   void solve();
   const Eigen::VectorXd& coarse() const { return coarse_vector_; }

@@ -174,8 +174,10 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   double beta = 0.0;
   while (!report.converged && report.iterations < options_.max_iterations) {
     ++report.iterations;
-    // Backward: s = (D + U)^-1 z, and U s.
+    // Backward: s = (D + U)^-1 z, U s, and (A W)^T s range by range.
+    coarse_.clear_restriction();
     backward([&](int first, int last) {
+      double* slice = coarse_.restriction_slice(ranges, first, last);
       for (int c = last - 1; c >= first; --c) {
         double upper[3];
         a.neighbour_sum(c, /*lower=*/false, s, upper);
@@ -185,11 +187,12 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
         us[3 * c] = upper[0];
         us[3 * c + 1] = upper[1];
         us[3 * c + 2] = upper[2];
+        coarse_.add_product(c, s + 3 * c, slice);
       }
       return RangeSums{};
     });
     // mu = E^-1 (A W)^T s; t = beta t + s - W mu, U t likewise, and p . A^ p = t^T A t.
-    coarse_.restrict_to_coarse(ranges, s, /*product=*/true);
+    coarse_.finish_restriction(ranges);
     coarse_.solve();
     const double curvature = over_ranges(ranges, [&](int first, int last) {
                                RangeSums part;
