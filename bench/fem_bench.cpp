@@ -132,6 +132,24 @@
 // 1.00 / 1.02 and 1.00 / 0.99, cholmod_match 0.0173% -> 0.0146%, 4.56 iterations either way.
 // The bound is 2048 since: liver_x4 and liver_x16 run as before.
 //
+// 2026-12-02, later: the SSOR solve is deflated by a coarse level, the translations of
+// aggregates of vertices (models/coarse_space.h), of 64 vertices from 2048 (the default; the
+// variants cg+coarse_32, cg+coarse_128 and cg+coarse_whole_body, the whole body one aggregate,
+// which is the default below 2048 and what every mesh ran before). One thread, real-time
+// medians, ms a step, iterations, cholmod_match in %:
+//                 whole body             aggregates of 64        32                 128
+//   liver         1.17  4.70 it 0.013    1.28  4.50 it 0.0008   1.29  4.44 it      1.16  4.51 it
+//   liver_x4      5.76  8.70 it 0.024    5.71  6.56 it 0.0009   6.67  6.40 it      7.48  7.30 it
+//   liver_x16     53.2  14.4 it 0.041    40.6  8.65 it 0.0020   60.4  7.75 it      46.8  9.44 it
+// (one run, in order, on a VM whose speed moved by 1.4x within it), and liver_x16 alone with the
+// variants interleaved (5-6 repetitions): whole body 48.0 ms / 14.8 it, 64 42.0 / 8.7, 128
+// 42.5 / 9.5; after (A W)^T s moved into the backward sweep, in a slow phase of the VM, whole body
+// / 64: one thread 57.8 / 55.4 ms, two 35.0 / 31.6 (1.65x / 1.75x). The iterations no longer
+// grow as they did (4.7 -> 14.4 over 15x the tets, now 4.5 -> 8.7), and every error against
+// CHOLMOD fell 10-25 fold; the time gained is less than the iterations saved: E (684 unknowns on
+// liver_x16) is factorised every step (about 2 ms), and each iteration adds a coarse solve and
+// two passes over A W's blocks (2-3 aggregates a vertex) to its two sweeps.
+//
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
 // under contact; the rule costs 23% on the liver and buys the contact force (within 0.06% of

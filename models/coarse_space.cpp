@@ -110,38 +110,38 @@ CoarseSpace::CoarseSpace(const BlockPattern& pattern, std::vector<int> aggregate
   upper_blocks_.assign(9 * touch_aggregates_.size(), 0.0);
 
   // E's pattern: a full 3x3 block for each pair of aggregates some vertex couples.
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int v = 0; v < n; ++v) {
-    const int g = aggregate(v);
-    for (int k = touch_offsets_[static_cast<std::size_t>(v)];
-         k < touch_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
-      const int h = touch_aggregates_[static_cast<std::size_t>(k)];
-      for (int i = 0; i < 3; ++i) {
-        for (int j = 0; j < 3; ++j) {
-          triplets.emplace_back(3 * g + i, 3 * h + j, 0.0);
-        }
+  // Each touch k of a vertex of aggregate g to aggregate h, as f(k, g, h).
+  const auto for_each_touch = [&](const auto& f) {
+    for (int v = 0; v < n; ++v) {
+      for (int k = touch_offsets_[static_cast<std::size_t>(v)];
+           k < touch_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
+        f(static_cast<std::size_t>(k), aggregate(v),
+          touch_aggregates_[static_cast<std::size_t>(k)]);
       }
     }
-  }
+  };
+  std::vector<Eigen::Triplet<double>> triplets;
+  for_each_touch([&](std::size_t, int g, int h) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        triplets.emplace_back(3 * g + i, 3 * h + j, 0.0);
+      }
+    }
+  });
   coarse_.resize(3 * num_aggregates_, 3 * num_aggregates_);
   coarse_.setFromTriplets(triplets.begin(), triplets.end());
   coarse_.makeCompressed();
   coarse_entries_.resize(3 * touch_aggregates_.size());
-  for (int v = 0; v < n; ++v) {
-    const int g = aggregate(v);
-    for (int k = touch_offsets_[static_cast<std::size_t>(v)];
-         k < touch_offsets_[static_cast<std::size_t>(v) + 1]; ++k) {
-      const int h = touch_aggregates_[static_cast<std::size_t>(k)];
-      for (int j = 0; j < 3; ++j) {
-        const int column = 3 * h + j;
-        const int* rows = coarse_.innerIndexPtr();
-        const int begin = coarse_.outerIndexPtr()[column];
-        const int end = coarse_.outerIndexPtr()[column + 1];
-        coarse_entries_[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(j)] =
-            static_cast<int>(std::lower_bound(rows + begin, rows + end, 3 * g) - rows);
-      }
+  for_each_touch([&](std::size_t k, int g, int h) {
+    for (int j = 0; j < 3; ++j) {
+      const int column = 3 * h + j;
+      const int* rows = coarse_.innerIndexPtr();
+      const int begin = coarse_.outerIndexPtr()[column];
+      const int end = coarse_.outerIndexPtr()[column + 1];
+      coarse_entries_[3 * k + static_cast<std::size_t>(j)] =
+          static_cast<int>(std::lower_bound(rows + begin, rows + end, 3 * g) - rows);
     }
-  }
+  });
   // Simplicial: E is small and solved a dozen times for each factorisation.
   factor_ = std::make_unique<CholmodFactor>(coarse_, /*supernodal=*/false);
   coarse_vector_.setZero(3 * num_aggregates_);

@@ -123,6 +123,16 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     over_ranges(parts, rows);
   };
 
+  // Row c of a forward sweep: out_c = D_c^-1 (in_c - sum over n < c of A_cn out_n) (`in` may be
+  // `out`: each row reads its own entry before writing it).
+  const auto forward_row = [&a, inverse](int c, const double* in, double* out) {
+    double lower[3];
+    a.neighbour_sum(c, /*lower=*/true, out, lower);
+    const double rest[3] = {in[3 * c] - lower[0], in[3 * c + 1] - lower[1],
+                            in[3 * c + 2] - lower[2]};
+    block_multiply(inverse + 9 * c, rest, out + 3 * c);
+  };
+
   // The start: r0 = b - A x0, then x0 += W mu and r0 -= A W mu with E mu = W^T r0, so that
   // W^T r0 = 0 (the coarse level solved exactly).
   over_ranges(ranges, [&](int first, int last) {
@@ -152,11 +162,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   const RangeSums start = forward([&](int first, int last) {
     RangeSums part;
     for (int c = first; c < last; ++c) {
-      double lower[3];
-      a.neighbour_sum(c, /*lower=*/true, r, lower);
-      const double rest[3] = {r[3 * c] - lower[0], r[3 * c + 1] - lower[1],
-                              r[3 * c + 2] - lower[2]};
-      block_multiply(inverse + 9 * c, rest, r + 3 * c);
+      forward_row(c, r, r);
       block_multiply(d + 9 * c, r + 3 * c, z + 3 * c);
       part.first += dot3(r + 3 * c, z + 3 * c);
       double scaled[3];
@@ -220,11 +226,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     const RangeSums sums = forward([&](int first, int last) {
       RangeSums part;
       for (int c = first; c < last; ++c) {
-        double lower[3];
-        a.neighbour_sum(c, /*lower=*/true, y, lower);
-        const double rest[3] = {ut[3 * c] - lower[0], ut[3 * c + 1] - lower[1],
-                                ut[3 * c + 2] - lower[2]};
-        block_multiply(inverse + 9 * c, rest, y + 3 * c);
+        forward_row(c, ut, y);
         double rv[3];
         for (int k = 0; k < 3; ++k) {
           rv[k] = r[3 * c + k] - alpha * (t[3 * c + k] + y[3 * c + k]);
