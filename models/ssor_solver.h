@@ -45,8 +45,9 @@ namespace softbench {
 /// solved exactly on the coarse level. The iteration tracks t = (D + U)^-1 p and U t instead of
 /// p: t = beta t + s - W mu with s = (D + U)^-1 z from the backward sweep (which also gives
 /// U s), W^^T A^ z = (A W)^T s, p . A^ p = t . D t + 2 t . U t, and A^ p = t + (D + L)^-1 U t
-/// from the forward sweep; x += alpha t directly. Per iteration: the two sweeps as before and
-/// two passes over the small A W and U W, and a coarse solve.
+/// from the forward sweep; x += alpha t directly. Per iteration: the two sweeps as before (the
+/// backward one also sums (A W)^T s), a pass for t and U t over U W's blocks, and a coarse
+/// solve.
 class SsorConjugateGradientSolver final : public SystemSolver {
  public:
   SsorConjugateGradientSolver(const LinearSolverOptions& options, const BlockPattern& pattern);
