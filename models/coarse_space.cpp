@@ -199,8 +199,10 @@ bool CoarseSpace::load(const BlockPattern& a) {
   return factor_->factorize(coarse_);
 }
 
-void CoarseSpace::clear_restriction() {
-  std::fill(range_sums_.begin(), range_sums_.end(), 0.0);
+void CoarseSpace::clear_restriction(std::span<const int> ranges) {
+  // Only the slices of the ranges in use (the buffer has room for kMaxRanges).
+  std::fill_n(range_sums_.begin(),
+              (ranges.size() - 1) * static_cast<std::size_t>(coarse_vector_.size()), 0.0);
 }
 
 double* CoarseSpace::restriction_slice(std::span<const int> ranges, int first, int last) {
@@ -221,7 +223,7 @@ void CoarseSpace::finish_restriction(std::span<const int> ranges) {
 }
 
 void CoarseSpace::restrict_to_coarse(std::span<const int> ranges, const double* y, bool product) {
-  clear_restriction();
+  clear_restriction(ranges);
   over_ranges(ranges, [&](int first, int last) {
     double* slice = restriction_slice(ranges, first, last);
     for (int v = first; v < last; ++v) {

@@ -51,9 +51,9 @@ class CoarseSpace {
   /// (over_ranges()) and then in the ranges' order: the same at any thread count.
   void restrict_to_coarse(std::span<const int> ranges, const double* y, bool product);
   /// The same in pieces, for a loop that makes y range by range (the solver's backward sweep):
-  /// clear_restriction(); in each range's loop, add_product(v, y_v, slice) for its vertices
+  /// clear_restriction(ranges); in each range's loop, add_product(v, y_v, slice) for its vertices
   /// with slice = restriction_slice(ranges, first, last); then finish_restriction(ranges).
-  void clear_restriction();
+  void clear_restriction(std::span<const int> ranges);
   double* restriction_slice(std::span<const int> ranges, int first, int last);
   /// slice += (A W)_v^T y_v.
   void add_product(int v, const double* yv, double* slice) const {

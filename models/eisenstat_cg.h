@@ -96,8 +96,8 @@ EisenstatStart eisenstat_start(std::span<const int> ranges,
 }
 
 /// The iterations of conjugate gradients preconditioned by symmetric Gauss-Seidel (SSOR with
-/// omega = 1) in Eisenstat's form (1981), shared by the block-matrix solver (ssor_solver.h) and
-/// the mass-spring model's spring system: CG on A^ = (D + L)^-1 A (D + U)^-1 with the
+/// omega = 1) in Eisenstat's form (1981), for the mass-spring model's spring system (the
+/// block-matrix solver, ssor_solver.h, runs its own deflated form of them): CG on A^ = (D + L)^-1 A (D + U)^-1 with the
 /// preconditioner z = D r^, so an iteration costs one backward and one forward sweep. The
 /// caller sets up x^ = (D + U) x0, r^, z = D r^, p = z and rz = r^ . z, and afterwards turns
 /// x^ back into x = (D + U)^-1 x^.

@@ -181,7 +181,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
   while (!report.converged && report.iterations < options_.max_iterations) {
     ++report.iterations;
     // Backward: s = (D + U)^-1 z, U s, and (A W)^T s range by range.
-    coarse_.clear_restriction();
+    coarse_.clear_restriction(ranges);
     backward([&](int first, int last) {
       double* slice = coarse_.restriction_slice(ranges, first, last);
       for (int c = last - 1; c >= first; --c) {
