@@ -142,8 +142,8 @@ CoarseSpace::CoarseSpace(const BlockPattern& pattern, std::vector<int> aggregate
           static_cast<int>(std::lower_bound(rows + begin, rows + end, 3 * g) - rows);
     }
   });
-  // Simplicial: E is small and solved a dozen times for each factorisation.
-  factor_ = std::make_unique<CholmodFactor>(coarse_, /*supernodal=*/false);
+  factor_ = std::make_unique<CholmodFactor>(coarse_,
+                                            /*supernodal=*/coarse_.rows() >= kSupernodalFrom);
   coarse_vector_.setZero(3 * num_aggregates_);
   solution_.setZero(3 * num_aggregates_);
   range_sums_.assign(static_cast<std::size_t>(kMaxRanges) * 3 * num_aggregates_, 0.0);
@@ -163,23 +163,30 @@ bool CoarseSpace::load(const BlockPattern& a) {
       std::fill(upper_blocks_.begin() + 9 * begin, upper_blocks_.begin() + 9 * end, 0.0);
       // slot_touch_ runs parallel to the pattern's neighbour lists.
       const int* touch_of = slot_touch_.data() + (a.neighbours(v).data() - a.neighbours(0).data());
-      for (int slot = 0; slot < degree; ++slot) {
-        const auto touch = static_cast<std::size_t>(begin + touch_of[slot]);
-        // Entry (k, i) of A_vn is column k's strip of n, entry i; the block is kept
-        // column-major, (k, i) at k + 3 i.
-        double* full = full_blocks_.data() + 9 * touch;
-        double* upper = upper_blocks_.data() + 9 * touch;
-        for (int k = 0; k < 3; ++k) {
-          const double* strip = column + 3 * degree * k + 3 * slot;
-          for (int i = 0; i < 3; ++i) {
-            full[k + 3 * i] += strip[i];
-          }
-          if (slot > own) {
+      // A run of slots on one touch, all before or all after v's own slot, is summed in
+      // registers and added to its block once (the slots after v into U W's; A W's gets U W's
+      // at the end): a whole-body aggregate is one run on each side of the diagonal.
+      const auto stride = static_cast<std::ptrdiff_t>(3 * degree);
+      int slot = 0;
+      while (slot < degree) {
+        const int touch = touch_of[slot];
+        const bool after = slot > own;
+        double sum[9] = {};  // (k, i) at k + 3 i, as the blocks
+        for (; slot < degree && touch_of[slot] == touch && (slot > own) == after; ++slot) {
+          const double* entries = column + 3 * slot;
+          for (int k = 0; k < 3; ++k) {
             for (int i = 0; i < 3; ++i) {
-              upper[k + 3 * i] += strip[i];
+              sum[k + 3 * i] += entries[stride * k + i];
             }
           }
         }
+        double* block = (after ? upper_blocks_ : full_blocks_).data() + 9 * (begin + touch);
+        for (int e = 0; e < 9; ++e) {
+          block[e] += sum[e];
+        }
+      }
+      for (int e = 9 * begin; e < 9 * end; ++e) {
+        full_blocks_[static_cast<std::size_t>(e)] += upper_blocks_[static_cast<std::size_t>(e)];
       }
     }
     return RangeSums{};
