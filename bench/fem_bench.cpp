@@ -154,12 +154,12 @@
 // registers (each solve's load had cost about an iteration), and E's factor is supernodal from
 // 256 unknowns (liver_x16's 684; simplicial below, the liver's 3 and liver_x4's ~180). In
 // instructions (callgrind, contact_bench's liver_press with corotational_fem, 300 steps): the
-// loads 419 M -> 208 M, the FEM's steps 3.88 G -> 3.69 G (5%), the contact's forces the same to
-// the digits printed; E's factorisation halved at 648 unknowns, its solves no dearer. Liver, one
-// thread, the two builds alternated five times (3 repetitions each): 1.25 -> 1.19 ms (medians;
-// pair by pair 0.84-1.02, median 0.95), solve 0.78 -> 0.73 ms. liver_x16 did not settle on this
-// VM that day: one thread 55.7 ms before and 61.8 after in runs minutes apart, two threads
-// 33.4 and 42.7, the same code 40-82 ms an hour earlier.
+// loads 419 M -> 208 M, the FEM's steps 3.88 G -> 3.69 G (5%), the peak tool force 0.427086 ->
+// 0.427087 N (the sums' new order); E's factorisation halved at 648 unknowns, its solves no
+// dearer. Liver, one thread, the two builds alternated five times (3 repetitions each): 1.25
+// -> 1.19 ms (medians; pair by pair 0.84-1.02, median 0.95), solve 0.78 -> 0.73 ms. liver_x16
+// did not settle on this VM that day: one thread 55.7 ms before and 61.8 after in runs minutes
+// apart, two threads 33.4 and 42.7, the same code 40-82 ms an hour earlier.
 //
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
