@@ -152,7 +152,7 @@
 //
 // 2026-12-02, last: the coarse level's A W and U W blocks are summed by runs of slots in
 // registers (each solve's load had cost about an iteration), and E's factor is supernodal from
-// 256 unknowns (liver_x16's 684; simplicial below, the liver's 3 and liver_x4's ~180). In
+// 256 unknowns (liver_x16's 684; simplicial below, the liver's 3 and liver_x4's ~190). In
 // instructions (callgrind, contact_bench's liver_press with corotational_fem, 300 steps): the
 // loads 419 M -> 208 M, the FEM's steps 3.88 G -> 3.69 G (5%), the peak tool force 0.427086 ->
 // 0.427087 N (the sums' new order); E's factorisation halved at 648 unknowns, its solves no
