@@ -171,7 +171,9 @@ bool CoarseSpace::load(const BlockPattern& a) {
       while (slot < degree) {
         const int touch = touch_of[slot];
         const bool after = slot > own;
-        double sum[9] = {};  // (k, i) at k + 3 i, as the blocks
+        // Entry (k, i) of A_vn is column k's strip of n, entry i; the blocks keep it at k + 3 i
+        // (column-major).
+        double sum[9] = {};
         for (; slot < degree && touch_of[slot] == touch && (slot > own) == after; ++slot) {
           const double* entries = column + 3 * slot;
           for (int k = 0; k < 3; ++k) {

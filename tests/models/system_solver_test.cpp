@@ -22,6 +22,7 @@
 #include <cmath>
 #include <random>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace softbench {
@@ -262,9 +263,9 @@ TEST(CoarseSpace, GrowsConnectedAggregatesOfAboutTheTargetSize) {
   }
 }
 
-TEST(CoarseSpace, LoadsWTransposeAWAndItsProductsFromTheMatrix) {
-  const BlockSystem system = local_elastic_system(8, 5, 4, 22);
-  std::vector<int> aggregate_of = grow_aggregates(system.pattern, 20);
+// CoarseSpace against dense products, for the aggregates `aggregate_of`.
+void expect_coarse_space_matches_dense(const BlockSystem& system,
+                                       const std::vector<int>& aggregate_of) {
   CoarseSpace coarse(system.pattern, aggregate_of);
   ASSERT_TRUE(coarse.load(system.pattern));
   const Eigen::MatrixXd w = translations(aggregate_of, coarse.num_aggregates());
@@ -300,6 +301,19 @@ TEST(CoarseSpace, LoadsWTransposeAWAndItsProductsFromTheMatrix) {
     EXPECT_LT((Eigen::Vector3d(out[0], out[1], out[2]) - upper_product.segment<3>(3 * v)).norm(),
               1e-10 * full_product.norm());
     EXPECT_EQ(coarse.translation(v), coarse.coarse().data() + 3 * aggregate_of[v]);
+  }
+}
+
+TEST(CoarseSpace, LoadsWTransposeAWAndItsProductsFromTheMatrix) {
+  const BlockSystem system = local_elastic_system(8, 5, 4, 22);
+  // Aggregates of 20 vertices make a small E (a simplicial factor), of 2 one past
+  // kSupernodalFrom (a supernodal factor).
+  for (const int target : {20, 2}) {
+    SCOPED_TRACE("aggregates of " + std::to_string(target));
+    const std::vector<int> aggregate_of = grow_aggregates(system.pattern, target);
+    const int unknowns = 3 * (1 + *std::max_element(aggregate_of.begin(), aggregate_of.end()));
+    EXPECT_EQ(unknowns >= CoarseSpace::kSupernodalFrom, target == 2) << unknowns << " unknowns";
+    expect_coarse_space_matches_dense(system, aggregate_of);
   }
 }
 
