@@ -231,19 +231,15 @@ void CoarseSpace::finish_restriction(std::span<const int> ranges) {
   }
 }
 
-void CoarseSpace::restrict_to_coarse(std::span<const int> ranges, const double* y, bool product) {
+void CoarseSpace::restrict_to_coarse(std::span<const int> ranges, const double* y) {
   clear_restriction(ranges);
   over_ranges(ranges, [&](int first, int last) {
     double* slice = restriction_slice(ranges, first, last);
     for (int v = first; v < last; ++v) {
-      if (product) {
-        add_product(v, y + 3 * v, slice);
-      } else {
-        double* o = slice + 3 * aggregate(v);
-        o[0] += y[3 * v];
-        o[1] += y[3 * v + 1];
-        o[2] += y[3 * v + 2];
-      }
+      double* o = slice + 3 * aggregate(v);
+      o[0] += y[3 * v];
+      o[1] += y[3 * v + 1];
+      o[2] += y[3 * v + 2];
     }
     return RangeSums{};
   });

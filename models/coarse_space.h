@@ -54,12 +54,13 @@ class CoarseSpace {
   /// positive definite (a singular or non-finite system).
   bool load(const BlockPattern& a);
 
-  /// coarse() = (A W)^T y (`product`) or W^T y, summed over `ranges` side by side
-  /// (over_ranges()) and then in the ranges' order: the same at any thread count.
-  void restrict_to_coarse(std::span<const int> ranges, const double* y, bool product);
-  /// The same in pieces, for a loop that makes y range by range (the solver's backward sweep):
-  /// clear_restriction(ranges); in each range's loop, add_product(v, y_v, slice) for its vertices
-  /// with slice = restriction_slice(ranges, first, last); then finish_restriction(ranges).
+  /// coarse() = W^T y, summed over `ranges` side by side (over_ranges()) and then in the ranges'
+  /// order: the same at any thread count.
+  void restrict_to_coarse(std::span<const int> ranges, const double* y);
+  /// coarse() = (A W)^T y in the same order, in pieces for a loop that makes y range by range
+  /// (the solver's backward sweep): clear_restriction(ranges); in each range's loop,
+  /// add_product(v, y_v, slice) for its vertices with slice = restriction_slice(ranges, first,
+  /// last); then finish_restriction(ranges).
   void clear_restriction(std::span<const int> ranges);
   double* restriction_slice(std::span<const int> ranges, int first, int last);
   /// slice += (A W)_v^T y_v.
@@ -123,7 +124,7 @@ class CoarseSpace {
   std::unique_ptr<CholmodFactor> factor_;  ///< made once E's pattern is known
   Eigen::VectorXd coarse_vector_;
   Eigen::VectorXd solution_;
-  std::vector<double> range_sums_;  ///< restrict_to_coarse()'s per-range parts
+  std::vector<double> range_sums_;  ///< the restrictions' per-range parts (kMaxRanges slices)
 };
 
 }  // namespace softbench

@@ -97,10 +97,10 @@ EisenstatStart eisenstat_start(std::span<const int> ranges,
 
 /// The iterations of conjugate gradients preconditioned by symmetric Gauss-Seidel (SSOR with
 /// omega = 1) in Eisenstat's form (1981), for the mass-spring model's spring system (the
-/// block-matrix solver, ssor_solver.h, runs its own deflated form of them): CG on A^ = (D + L)^-1 A (D + U)^-1 with the
-/// preconditioner z = D r^, so an iteration costs one backward and one forward sweep. The
-/// caller sets up x^ = (D + U) x0, r^, z = D r^, p = z and rz = r^ . z, and afterwards turns
-/// x^ back into x = (D + U)^-1 x^.
+/// block-matrix solver, ssor_solver.h, runs its own deflated form of them): CG on
+/// A^ = (D + L)^-1 A (D + U)^-1 with the preconditioner z = D r^, so an iteration costs one
+/// backward and one forward sweep. The caller sets up x^ = (D + U) x0, r^, z = D r^, p = z and
+/// rz = r^ . z, and afterwards turns x^ back into x = (D + U)^-1 x^.
 ///
 /// `sweeps(beta)` sets p = z + beta p and q = A^ p (the two sweeps) and returns p . q.
 /// `apply_d(v, in, out)` sets out = D_v in for vertex v's 3x3 block. Vectors are 3 per vertex;

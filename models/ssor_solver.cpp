@@ -141,7 +141,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     }
     return RangeSums{};
   });
-  coarse_.restrict_to_coarse(ranges, r, /*product=*/false);
+  coarse_.restrict_to_coarse(ranges, r);
   coarse_.solve();
   over_ranges(ranges, [&](int first, int last) {
     for (int c = first; c < last; ++c) {
