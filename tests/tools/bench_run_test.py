@@ -9,6 +9,7 @@ Usage: bench_run_test.py [unittest arguments, e.g. a test class name]"""
 import importlib.util
 import json
 import os
+import re
 import signal
 import socket
 import stat
@@ -147,6 +148,10 @@ class ArgumentTest(Fixture):
         self.expect_refusal(["--build", self.build, "--quick", "--quick", "--filter", "a",
                              "--filter", "b"], "--filter")
 
+    def test_goals_runs_its_own_benchmarks_alone(self):
+        self.expect_refusal(["--build", self.build, "--goals", "--quick"], "--goals")
+        self.expect_refusal(["--build", self.build, "--goals", "--filter", "BM_Step"], "--goals")
+
     def test_a_build_without_benchmarks(self):
         self.expect_refusal(["--build", os.path.join(self.folder, "nowhere")], "--build")
         self.expect_refusal(["--build", self.log], "--build")  # no bench/ in it
@@ -238,6 +243,19 @@ class MergeTest(Fixture):
             info = json.load(handle)["softbench_run"]
         self.assertEqual((info["mode"], info["repetitions"], info["min_time_s"]),
                          ("quick", 3, 0.2))
+
+    def test_goals_asks_every_executable_for_the_goals_benchmarks_exactly(self):
+        self.run_bench("--build", self.build, "--out", self.out, "--goals")
+        arguments = self.arguments_of("beta_bench")
+        self.assertIn("--benchmark_repetitions=5", arguments)
+        regex = [a.partition("=")[2] for a in arguments if a.startswith("--benchmark_filter=")]
+        self.assertEqual(len(regex), 1)
+        pattern = re.compile(regex[0])
+        for name in support.load_goals_module().benchmark_names(
+                support.load_goals_module().load_goals()):
+            self.assertTrue(pattern.search(name), name)
+            self.assertFalse(pattern.search(name + "/repeats:2"), name)
+        self.assertFalse(pattern.search("BM_FemStep/cg/liver.msh/threads:2/real_time"))
 
     def test_a_failing_executable_leaves_the_last_file_as_it_was(self):
         os.makedirs(self.out)

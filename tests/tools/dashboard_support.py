@@ -38,6 +38,12 @@ def load_dashboard():
     return module
 
 
+def load_goals_module():
+    """tools/bench_goals.py, the goals that bench/run and tools/dashboard share."""
+    sys.path.insert(0, os.path.join(REPOSITORY, "tools"))
+    return importlib.import_module("bench_goals")
+
+
 def run_tool(tool, *arguments, environment=None, timeout=300):
     """Runs a tool with this interpreter (the one whose modules were checked)."""
     return subprocess.run([sys.executable, tool, *arguments], capture_output=True, text=True,

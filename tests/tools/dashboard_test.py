@@ -20,6 +20,7 @@ import dashboard_support as support  # noqa: E402
 
 support.require_modules("matplotlib", "scipy")
 dashboard = support.load_dashboard()
+goals_module = support.load_goals_module()
 
 OLD_DATE = "2026-11-20T10:00:00+00:00"
 NEW_DATE = "2026-11-21T10:00:00+00:00"
@@ -333,6 +334,142 @@ class BadInputTest(unittest.TestCase):
     def test_an_unknown_option_and_no_runs(self):
         self.expect_refusal(["--colour"], "--colour")
         self.expect_refusal([], "run files")
+
+
+class GoalsTest(unittest.TestCase):
+    """bench/goals.json judged against runs made in code: each kind of figure, the floor, the
+    bounds beside a goal, missing data, the goals file's checks and the markdown table."""
+
+    @staticmethod
+    def run_of(specs, tets=None):
+        """A Run of the given (name, cpu ms, real ms, counters) benchmarks, 3 repetitions."""
+        rng = support.random.Random(3)
+        benchmarks = []
+        for index, (name, cpu, real, counters) in enumerate(specs):
+            spec = ("any_bench", name, "ms", cpu, counters, False)
+            entries = support.entries(spec, index, 3, rng, 1.0, 0.0)
+            for entry in entries:
+                if entry["run_type"] == "iteration" or entry.get("aggregate_name") != "cv":
+                    entry["real_time"] = real
+            benchmarks.extend(entries)
+        data = support.make_run(NEW_DATE, keep=lambda n: False)
+        data["benchmarks"] = benchmarks
+        return run_object("goals.json", data, 0)
+
+    def judge(self, goal, specs):
+        return dashboard.judge_all(self.run_of(specs), [goal])[0]
+
+    def test_the_shipped_goals_load_and_name_every_figure(self):
+        goals = goals_module.load_goals()
+        self.assertGreaterEqual(len(goals), 10)
+        run = self.run_of([])
+        for result in dashboard.judge_all(run, goals):
+            self.assertEqual(result["verdict"], "no data")
+            self.assertTrue(result["missing"])
+
+    def test_a_rate_is_steps_per_cpu_second_against_its_bound(self):
+        goal = {"workload": "w", "unit": "steps/s", "at_least": 1000,
+                "measure": {"rate": "BM_A"}}
+        fast = self.judge(goal, [("BM_A", 0.8, 2.0, {})])
+        self.assertAlmostEqual(fast["value"], 1250.0)
+        self.assertEqual(fast["verdict"], "met")
+        self.assertEqual(self.judge(goal, [("BM_A", 1.25, 1.0, {})])["verdict"], "unmet")
+
+    def test_a_floor_is_met_short_of_the_goal(self):
+        goal = {"workload": "w", "unit": "steps/s", "at_least": 1000, "floor": 700,
+                "measure": {"counter": "rate", "of": "BM_A"}}
+        self.assertEqual(self.judge(goal, [("BM_A", 1, 1, {"rate": 750.0})])["verdict"], "floor")
+        self.assertEqual(self.judge(goal, [("BM_A", 1, 1, {"rate": 650.0})])["verdict"], "unmet")
+        self.assertEqual(self.judge(goal, [("BM_A", 1, 1, {"rate": 1e4})])["verdict"], "met")
+
+    def test_a_speed_counts_only_beside_its_accuracy(self):
+        goal = {"workload": "w", "unit": "steps/s", "at_least": 1000,
+                "measure": {"rate": "BM_A"},
+                "beside": [{"label": "error", "counter": "match", "at_most": 0.01,
+                            "percent": True}, {"label": "its", "counter": "iterations"}]}
+        right = self.judge(goal, [("BM_A", 0.5, 0.5, {"match": 0.001, "iterations": 4.0})])
+        self.assertEqual(right["verdict"], "met")
+        self.assertEqual(right["beside"][0]["shown"], "0.1%")
+        self.assertEqual(right["beside"][1]["within"], None)
+        wrong = self.judge(goal, [("BM_A", 0.5, 0.5, {"match": 0.05, "iterations": 4.0})])
+        self.assertEqual(wrong["verdict"], "unmet")
+        self.assertFalse(wrong["beside"][0]["within"])
+        unknown = self.judge(goal, [("BM_A", 0.5, 0.5, {"iterations": 4.0})])
+        self.assertEqual(unknown["verdict"], "no data")
+        self.assertEqual(unknown["missing"], ["BM_A (match)"])
+
+    def test_a_ratio_reads_the_clock_it_names(self):
+        goal = {"workload": "w", "unit": "x", "at_least": 1.8,
+                "measure": {"ratio": ["BM_1", "BM_2"], "clock": "real"}}
+        # Two threads: the same CPU time on the main thread, half the wall time.
+        specs = [("BM_1", 10.0, 10.0, {}), ("BM_2", 9.0, 5.0, {})]
+        result = self.judge(goal, specs)
+        self.assertAlmostEqual(result["value"], 2.0)
+        self.assertEqual(result["verdict"], "met")
+        goal["measure"]["clock"] = "cpu"
+        self.assertEqual(self.judge(goal, specs)["verdict"], "unmet")
+
+    def test_an_exponent_is_fitted_on_the_tets_the_run_reports(self):
+        goal = {"workload": "w", "unit": "exponent", "at_most": 1.15,
+                "measure": {"exponent": "BM_S/{mesh}", "meshes": list(support.MESHES)}}
+        specs = []
+        for mesh, (_, _, tets) in support.MESHES.items():
+            specs.append((f"BM_S/{mesh}", 1e-4 * tets ** 1.3, 1.0, {"tets": tets}))
+        result = self.judge(goal, specs)
+        self.assertAlmostEqual(result["value"], 1.3, places=6)
+        self.assertEqual(result["verdict"], "unmet")
+        missing = self.judge(goal, specs[:2])
+        self.assertEqual(missing["verdict"], "no data")
+        self.assertEqual(missing["missing"], ["BM_S/liver_x16.msh"])
+
+    def bad_goals(self, goals, named):
+        folder = tempfile.mkdtemp(prefix="goals-")
+        self.addCleanup(shutil.rmtree, folder)
+        path = os.path.join(folder, "goals.json")
+        with open(path, "w", encoding="utf-8") as handle:
+            handle.write(goals if isinstance(goals, str) else json.dumps({"goals": goals}))
+        with self.assertRaises(goals_module.GoalsError) as caught:
+            goals_module.load_goals(path)
+        self.assertIn(path, str(caught.exception))
+        self.assertIn(named, str(caught.exception))
+
+    def test_a_bad_goals_file_is_named_with_its_key(self):
+        good = {"workload": "w", "unit": "u", "at_least": 1, "measure": {"rate": "BM_A"}}
+        self.bad_goals("{", "not JSON")
+        self.bad_goals([], "\"goals\"")
+        self.bad_goals([dict(good, at_most=2)], "goals[0]: give exactly one")
+        self.bad_goals([{k: v for k, v in good.items() if k != "at_least"}], "goals[0]")
+        self.bad_goals([dict(good, floor=2)], "goals[0].floor")
+        self.bad_goals([good, dict(good, measure={"speed": "BM_A"})], "goals[1].measure")
+        self.bad_goals([dict(good, measure={"exponent": "BM_A", "meshes": ["liver.msh"]})],
+                       "goals[0].measure.exponent")
+        self.bad_goals([dict(good, measure={"ratio": ["BM_A", "BM_B"]},
+                             beside=[{"label": "l", "counter": "c"}])],
+                       "goals[0].beside[0].of")
+
+    def test_the_table_is_markdown_on_stdout_and_no_page(self):
+        with tempfile.TemporaryDirectory(prefix="dashboard-goals-") as folder:
+            path = support.write(os.path.join(folder, "run.json"), support.make_run(NEW_DATE))
+            out = os.path.join(folder, "page")
+            result = support.run_tool(support.DASHBOARD, path, "--goals", "--out", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertIn("| workload | measured | goal | beside | verdict |", result.stdout)
+            self.assertRegex(result.stdout, r"\n\d+ of \d+ goals met\.\n$")
+            self.assertFalse(os.path.exists(out))
+
+    def test_the_page_has_a_row_a_goal(self):
+        with tempfile.TemporaryDirectory(prefix="dashboard-goals-") as folder:
+            path = support.write(os.path.join(folder, "run.json"), support.make_run(NEW_DATE))
+            out = os.path.join(folder, "page")
+            result = support.run_tool(support.DASHBOARD, path, "--out", out)
+            self.assertEqual(result.returncode, 0, result.stderr)
+            with open(os.path.join(out, "index.html"), encoding="utf-8") as handle:
+                page = handle.read()
+            table = re.search(r'<table class="goals" id="goals">(.*?)</table>', page, re.S)
+            self.assertIsNotNone(table)
+            rows = re.findall(r'<tr class="(met|floor|unmet|no-data)">', table.group(1))
+            self.assertEqual(len(rows), len(goals_module.load_goals()))
+            self.assertIn("no-data", rows)
 
 
 if __name__ == "__main__":
