@@ -270,6 +270,8 @@ def format_value(value):
     if value is None:
         return "-"
     magnitude = abs(value)
+    if float(value).is_integer() and magnitude < 1e15:
+        return f"{int(value):,}"  # a bound as written: 15, not 15.0
     if magnitude >= 1000:
         return f"{value:,.0f}"
     if magnitude >= 100:
