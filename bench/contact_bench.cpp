@@ -25,7 +25,11 @@
 // - steps_touching, max_triangle_pairs (the thesis's measure of contact, table 4.2);
 // - what the contact bought, beside what it cost: peak_tool_force_N (the largest force on the
 //   tool at any step) and max_penetration_mm (the deepest the tool went into the tissue, or the
-//   tissue into the tool, at any step's end), as softbench run reports them.
+//   tissue into the tool, at any step's end), as softbench run reports them;
+// - force_vs_cholmod (corotational_fem): the largest difference at any step between its tool
+//   force and that of the same scene with its solves by CHOLMOD (solver "cholmod"), relative
+//   to that run's peak: what the default solver's stopping rule costs the contact's answer.
+//   The exact run is stepped once per scene in a process, untimed.
 //
 // Run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and quote medians;
 // the machine is shared and noisy.
@@ -104,6 +108,9 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -117,16 +124,73 @@ struct ContactModel {
   std::string label;  ///< the benchmark name's model part
   std::string model;  ///< registry key
   nlohmann::json overrides = nlohmann::json::object();
+  /// The overrides that make the same model exact (its linear solves by CHOLMOD), for
+  /// force_vs_cholmod; null: the model has no exact setting.
+  nlohmann::json exact = nullptr;
 };
 
 std::vector<ContactModel> contact_models() {
-  return {{"corotational_fem", "corotational_fem"},
-          {"shape_matching", "shape_matching"},
-          // Shape matching stepped as the thesis stepped it: one match and pull a step, no
-          // volume correction (the scene's block keeps the defaults' four passes).
-          {"shape_matching:thesis_one_pass",
-           "shape_matching",
-           {{"iterations", 1}, {"preserve_volume", false}}}};
+  return {
+      {"corotational_fem", "corotational_fem", nlohmann::json::object(), {{"solver", "cholmod"}}},
+      {"shape_matching", "shape_matching"},
+      // Shape matching stepped as the thesis stepped it: one match and pull a step, no
+      // volume correction (the scene's block keeps the defaults' four passes).
+      {"shape_matching:thesis_one_pass",
+       "shape_matching",
+       {{"iterations", 1}, {"preserve_volume", false}}}};
+}
+
+std::unique_ptr<SoftBody> make_body(const scenes::Scene& scene,
+                                    const harness::SceneMesh& mesh,
+                                    const std::string& model_name,
+                                    const nlohmann::json& overrides) {
+  nlohmann::json parameters = scene.parameters_for(model_name);
+  if (parameters.is_null()) {
+    parameters = nlohmann::json::object();
+  }
+  parameters.update(overrides);
+  return builtin_models()
+      .at(model_name)
+      .create(mesh.body, scene.material, parameters,
+              {scene.source.string(), "/models/" + model_name});
+}
+
+/// N: the tool's force after each of the first `steps` steps of the scene with the model made
+/// exact (ContactModel::exact), once per scene, model and step count in a process.
+const std::vector<double>& exact_tool_forces(const scenes::Scene& scene,
+                                             const harness::SceneMesh& mesh,
+                                             const ContactModel& variant,
+                                             int steps) {
+  static std::map<std::string, std::vector<double>> cache;
+  const std::string key = scene.name + "/" + variant.label + "/" + std::to_string(steps);
+  const auto found = cache.find(key);
+  if (found != cache.end()) {
+    return found->second;
+  }
+  nlohmann::json overrides = variant.overrides;
+  overrides.update(variant.exact);
+  std::unique_ptr<SoftBody> body = make_body(scene, mesh, variant.model, overrides);
+  harness::SceneStepper stepper(scene, mesh);
+  stepper.start(*body);
+  std::vector<double> forces;
+  for (int step = 0; step < steps; ++step) {
+    stepper.step(step, *body);
+    stepper.observe(step, *body);
+    forces.push_back(stepper.loading().tool_force());
+  }
+  return cache.emplace(key, std::move(forces)).first->second;
+}
+
+/// The largest difference at any step between two tool-force histories, relative to the
+/// reference's peak (0 when it never touches).
+double force_error(const std::vector<double>& forces, const std::vector<double>& reference) {
+  double peak = 0.0;
+  double largest = 0.0;
+  for (std::size_t k = 0; k < reference.size() && k < forces.size(); ++k) {
+    peak = std::max(peak, reference[k]);
+    largest = std::max(largest, std::abs(forces[k] - reference[k]));
+  }
+  return peak > 0.0 ? largest / peak : 0.0;
 }
 
 double median(std::vector<double> values) {
@@ -150,7 +214,6 @@ void contact_benchmark(benchmark::State& state,
   const scenes::Scene scene =
       scenes::load_scene(scenes::shipped_data_dir().parent_path() / (scene_name + ".json"));
   const harness::SceneMesh mesh = harness::read_scene_mesh(scene);
-  const ModelInfo& info = builtin_models().at(model_name);
   const int steps = bench::unless_smoke(scene.num_steps(), 20);
 
   std::vector<double> touching, apart, model;
@@ -158,15 +221,11 @@ void contact_benchmark(benchmark::State& state,
   long stepped = 0;
   int max_pairs = 0;
   double peak_force = 0.0, max_penetration = 0.0;
+  std::vector<double> forces;  // the tool's after each step, of the last iteration
   for (auto _ : state) {
     state.PauseTiming();
-    nlohmann::json parameters = scene.parameters_for(model_name);
-    if (parameters.is_null()) {
-      parameters = nlohmann::json::object();
-    }
-    parameters.update(variant.overrides);
-    std::unique_ptr<SoftBody> body = info.create(mesh.body, scene.material, parameters,
-                                                 {scene.source.string(), "/models/" + model_name});
+    std::unique_ptr<SoftBody> body = make_body(scene, mesh, model_name, variant.overrides);
+    forces.clear();
     harness::SceneStepper stepper(scene, mesh);
     stepper.start(*body);
     state.ResumeTiming();
@@ -183,6 +242,7 @@ void contact_benchmark(benchmark::State& state,
       }
       (stepper.loading().tool_force() > 0.0 ? touching : apart).push_back(1e3 * contact_seconds);
       peak_force = std::max(peak_force, stepper.loading().tool_force());
+      forces.push_back(stepper.loading().tool_force());
       model.push_back(1e3 * model_seconds);
       iteration_contact += contact_seconds;
       model_total += model_seconds;
@@ -206,6 +266,10 @@ void contact_benchmark(benchmark::State& state,
   state.counters["max_triangle_pairs"] = max_pairs;
   state.counters["peak_tool_force_N"] = peak_force;
   state.counters["max_penetration_mm"] = 1e3 * max_penetration;
+  if (!variant.exact.is_null()) {
+    state.counters["force_vs_cholmod"] =
+        force_error(forces, exact_tool_forces(scene, mesh, variant, steps));
+  }
 }
 
 void register_benchmarks() {
