@@ -126,6 +126,14 @@ def _check_measure(measure, where):
     return kind
 
 
+def _objects(items, where):
+    """(where[index], item) for each item of a list, each checked to be an object."""
+    for index, item in enumerate(items):
+        if not isinstance(item, dict):
+            raise GoalsError(f"{where}[{index}]: expected an object")
+        yield f"{where}[{index}]", item
+
+
 def load_goals(path=GOALS_FILE):
     """The goals of a goals file, checked; GoalsError names the file and the bad key."""
     try:
@@ -140,10 +148,7 @@ def load_goals(path=GOALS_FILE):
     goals = data.get("goals") if isinstance(data, dict) else None
     if not isinstance(goals, list) or not goals:
         raise GoalsError(f"{path}: expected an object with a non-empty \"goals\" list")
-    for index, goal in enumerate(goals):
-        where = f"{path}: goals[{index}]"
-        if not isinstance(goal, dict):
-            raise GoalsError(f"{where}: expected an object")
+    for where, goal in _objects(goals, f"{path}: goals"):
         _check_string(goal.get("workload"), f"{where}.workload")
         _check_string(goal.get("unit"), f"{where}.unit")
         if "measure" not in goal:
@@ -154,10 +159,7 @@ def load_goals(path=GOALS_FILE):
         if not isinstance(beside, list):
             raise GoalsError(f"{where}.beside: expected a list")
         one_benchmark = "rate" in goal["measure"] or "counter" in goal["measure"]
-        for number, entry in enumerate(beside):
-            at = f"{where}.beside[{number}]"
-            if not isinstance(entry, dict):
-                raise GoalsError(f"{at}: expected an object")
+        for at, entry in _objects(beside, f"{where}.beside"):
             _check_string(entry.get("label"), f"{at}.label")
             _check_string(entry.get("counter"), f"{at}.counter")
             if "of" in entry or not one_benchmark:
