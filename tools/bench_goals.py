@@ -341,19 +341,33 @@ def beside_text(item):
     return text
 
 
-def markdown_table(results, run_label):
-    """The goals table as the issue notes give it: one row a goal."""
-    lines = [f"Goals (bench/goals.json) against {run_label}:", "",
-             "| workload | measured | goal | beside | verdict |", "|---|---|---|---|---|"]
-    for result in results:
-        measured = (f"{format_value(result['value'])} {result['unit']}"
-                    if result["value"] is not None else "-")
+def measured_text(result):
+    return f"{format_value(result['value'])} {result['unit']}" if result["value"] is not None \
+        else "-"
+
+
+def markdown_table(results, run_label, before=None, before_label=None):
+    """The goals table as the issue notes give it: one row a goal. With `before` (the same goals
+    judged against an earlier run), a column of its figures beside the newest's."""
+    lines = [f"Goals (bench/goals.json) against {run_label}"
+             + (f", before: {before_label}" if before is not None else "") + ":", ""]
+    if before is None:
+        lines += ["| workload | measured | goal | beside | verdict |", "|---|---|---|---|---|"]
+    else:
+        lines += ["| workload | before | after | goal | beside (after) | verdict (after) |",
+                  "|---|---|---|---|---|---|"]
+    for number, result in enumerate(results):
         beside = "; ".join(beside_text(item) for item in result["beside"]) or "-"
         verdict = VERDICT_TEXT[result["verdict"]]
         if result["missing"]:
             verdict += " (" + ", ".join(result["missing"]) + " not in the run)"
-        lines.append(f"| {result['workload']} | {measured} | {result['bound']} | {beside} "
+        figures = measured_text(result)
+        if before is not None:
+            figures = f"{measured_text(before[number])} | {figures}"
+        lines.append(f"| {result['workload']} | {figures} | {result['bound']} | {beside} "
                      f"| {verdict} |")
     met = sum(result["verdict"] == "met" for result in results)
-    lines += ["", f"{met} of {len(results)} goals met."]
+    lines += ["", f"{met} of {len(results)} goals met"
+              + (f" ({sum(r['verdict'] == 'met' for r in before)} before)."
+                 if before is not None else ".")]
     return "\n".join(lines) + "\n"

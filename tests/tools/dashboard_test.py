@@ -457,6 +457,26 @@ class GoalsTest(unittest.TestCase):
             self.assertRegex(result.stdout, r"\n\d+ of \d+ goals met\.\n$")
             self.assertFalse(os.path.exists(out))
 
+    def test_two_runs_give_before_and_after(self):
+        fem = "BM_FemStep/cg/liver.msh/threads:1/real_time"
+        with tempfile.TemporaryDirectory(prefix="dashboard-goals-") as folder:
+            old = support.write(os.path.join(folder, "old.json"), support.make_run(OLD_DATE))
+            new = support.write(os.path.join(folder, "new.json"), support.make_run(
+                NEW_DATE, factor=injected({fem: 0.5}), noise=0.0))
+            result = support.run_tool(support.DASHBOARD, new, old, "--goals")
+            self.assertEqual(result.returncode, 0, result.stderr)
+            self.assertIn("| workload | before | after | goal |", result.stdout)
+            row = next(line for line in result.stdout.splitlines()
+                       if line.startswith("| corotational_fem step, liver, one core"))
+            before, after = (float(cell.split()[0].replace(",", ""))
+                             for cell in row.split("|")[2:4])
+            self.assertAlmostEqual(after / before, 2.0, delta=0.05)
+            out = os.path.join(folder, "page")
+            self.assertEqual(support.run_tool(support.DASHBOARD, old, new, "--out",
+                                              out).returncode, 0)
+            with open(os.path.join(out, "index.html"), encoding="utf-8") as handle:
+                self.assertIn("run before -&gt; newest", handle.read())
+
     def test_the_page_has_a_row_a_goal(self):
         with tempfile.TemporaryDirectory(prefix="dashboard-goals-") as folder:
             path = support.write(os.path.join(folder, "run.json"), support.make_run(NEW_DATE))
