@@ -334,6 +334,14 @@ def judge_all(run, goals):
 VERDICT_TEXT = {"met": "met", "floor": "floor met", "unmet": "not met", "no data": "no data"}
 
 
+def verdict_text(result):
+    """The verdict in words, with what the run lacked for a goal without data."""
+    text = VERDICT_TEXT[result["verdict"]]
+    if result["missing"]:
+        text += " (" + ", ".join(result["missing"]) + " not in the run)"
+    return text
+
+
 def beside_text(item):
     text = f"{item['label']} {item['shown']}"
     if item["bound"]:
@@ -358,14 +366,11 @@ def markdown_table(results, run_label, before=None, before_label=None):
                   "|---|---|---|---|---|---|"]
     for number, result in enumerate(results):
         beside = "; ".join(beside_text(item) for item in result["beside"]) or "-"
-        verdict = VERDICT_TEXT[result["verdict"]]
-        if result["missing"]:
-            verdict += " (" + ", ".join(result["missing"]) + " not in the run)"
         figures = measured_text(result)
         if before is not None:
             figures = f"{measured_text(before[number])} | {figures}"
         lines.append(f"| {result['workload']} | {figures} | {result['bound']} | {beside} "
-                     f"| {verdict} |")
+                     f"| {verdict_text(result)} |")
     met = sum(result["verdict"] == "met" for result in results)
     lines += ["", f"{met} of {len(results)} goals met"
               + (f" ({sum(r['verdict'] == 'met' for r in before)} before)."
