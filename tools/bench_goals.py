@@ -66,7 +66,8 @@ def mesh_tets(run):
 # Reading the goals
 
 
-def _number(value):
+def is_number(value):
+    """A finite int or float, not a bool: what a JSON figure must be to be judged or drawn."""
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
@@ -77,7 +78,7 @@ def _check_bounds(entry, where, require):
     if len(bounds) > 1:
         raise GoalsError(f"{where}: give at most one of \"at_least\" and \"at_most\"")
     for key in bounds + (["floor"] if "floor" in entry else []):
-        if not _number(entry[key]):
+        if not is_number(entry[key]):
             raise GoalsError(f"{where}.{key}: expected a number")
     if "floor" in entry:
         if not bounds:
@@ -259,18 +260,18 @@ def bound_text(entry, percent=False):
     if key is None:
         return ""
 
-    def number(value):
-        return f"{format_value(100.0 * value)}%" if percent else format_value(value)
-
-    text = (">= " if key == "at_least" else "<= ") + number(entry[key])
+    text = (">= " if key == "at_least" else "<= ") + format_value(entry[key], percent)
     if "floor" in entry:
-        text += f" (floor {number(entry['floor'])})"
+        text += f" (floor {format_value(entry['floor'], percent)})"
     return text
 
 
-def format_value(value):
+def format_value(value, percent=False):
+    """A figure as the tables show it ("-" for none); `percent`: a fraction shown in percent."""
     if value is None:
         return "-"
+    if percent:
+        return f"{format_value(100.0 * value)}%"
     magnitude = abs(value)
     if float(value).is_integer() and magnitude < 1e15:
         return f"{int(value):,}"  # a bound as written: 15, not 15.0
@@ -286,8 +287,9 @@ def format_value(value):
 
 
 def judge(run, goal):
-    """One goal against the run: a dict with workload, value, unit, bound, beside (label, value,
-    bound text, whether within it: None when unbounded), verdict, sources and missing."""
+    """One goal against the run: a dict with workload, value, unit, bound, beside (label, the
+    figure as shown, bound text, whether within it: None when unbounded), verdict, sources and
+    missing."""
     value, sources, missing = measure_value(run, goal["measure"])
     default_source = sources[-1] if "counter" in goal["measure"] or "rate" in goal["measure"] \
         else None
@@ -306,13 +308,9 @@ def judge(run, goal):
             else:
                 within = _within(figure, entry, key)
                 beside_ok = beside_ok and within
-        if figure is not None and entry.get("percent"):
-            shown = f"{format_value(100.0 * figure)}%"
-        else:
-            shown = format_value(figure)
-        beside.append({"label": entry["label"], "value": figure, "shown": shown,
-                       "bound": bound_text(entry, entry.get("percent", False)),
-                       "within": within})
+        percent = entry.get("percent", False)
+        beside.append({"label": entry["label"], "shown": format_value(figure, percent),
+                       "bound": bound_text(entry, percent), "within": within})
     key = _bound_key(goal)
     if value is None or missing:
         verdict = "no data"
