@@ -108,7 +108,8 @@ Eigen::Matrix<double, D, 1> monomials(const Eigen::Vector3d& q) {
 /// summation order, so the result does not depend on alignment or threads. With `sums`, also
 /// sum_j p_r[j] (the three rows' totals) in the same pass and order. The nine sums are spelt
 /// out in four-lane vectors: GCC otherwise vectorises the loop across the nine accumulators,
-/// with shuffles and spills.
+/// with shuffles and spills. Weighted: p_r[j] is taken as weights[j] p_r[j] throughout.
+template <bool kWeighted = false>
 Eigen::Matrix3d moments(const double* px,
                         const double* py,
                         const double* pz,
@@ -116,14 +117,21 @@ Eigen::Matrix3d moments(const double* px,
                         const double* b1,
                         const double* b2,
                         int n,
-                        Eigen::Vector3d* sums = nullptr) {
+                        Eigen::Vector3d* sums = nullptr,
+                        const double* weights = nullptr) {
   Quad acc[9] = {};
   Quad total[3] = {};
   int j = 0;
   for (; j + 4 <= n; j += 4) {
-    const Quad x = load_quad(px + j);
-    const Quad y = load_quad(py + j);
-    const Quad z = load_quad(pz + j);
+    Quad x = load_quad(px + j);
+    Quad y = load_quad(py + j);
+    Quad z = load_quad(pz + j);
+    if constexpr (kWeighted) {
+      const Quad w = load_quad(weights + j);
+      x *= w;
+      y *= w;
+      z *= w;
+    }
     const Quad u = load_quad(b0 + j);
     const Quad v = load_quad(b1 + j);
     const Quad w = load_quad(b2 + j);
@@ -149,7 +157,7 @@ Eigen::Matrix3d moments(const double* px,
   }
   Eigen::Vector3d row_sums(lanes(total[0]), lanes(total[1]), lanes(total[2]));
   for (; j < n; ++j) {  // the last n mod 4 terms
-    const Eigen::Vector3d p(px[j], py[j], pz[j]);
+    const Eigen::Vector3d p = Eigen::Vector3d(px[j], py[j], pz[j]) * (kWeighted ? weights[j] : 1.0);
     result.col(0) += p * b0[j];
     result.col(1) += p * b1[j];
     result.col(2) += p * b2[j];
@@ -303,6 +311,10 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
     assert(count > 0 && "every particle must be in a cluster");
     inverse_count_(i) = 1.0 / count;
   }
+  member_inverse_count_.resize(member_particle_.size());
+  for (std::size_t m = 0; m < member_particle_.size(); ++m) {
+    member_inverse_count_[m] = inverse_count_(member_particle_[m]);
+  }
   held_flags_.assign(index(num_particles), 0);
   held_particles_.reserve(index(num_particles));
   held_slot_.assign(index(num_clusters()), -1);
@@ -432,8 +444,8 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   reference[2] = cz;
 
   if (const int slot = held_slot_[index(cluster)]; slot >= 0) {
-    return match_held<D>(cluster, held_pool_[index(slot)], positions, apq,
-                         Eigen::Vector3d(rx, ry, rz), Eigen::Vector3d(cx, cy, cz));
+    return match_held<D>(cluster, held_pool_[index(slot)], apq, Eigen::Vector3d(rx, ry, rz),
+                         Eigen::Vector3d(cx, cy, cz));
   }
 
   // The rotation of the linear part (the basis's linear rows are q / scale: same R).
@@ -462,7 +474,6 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
 template <int D>
 int ClusterMatcher::match_held(int cluster,
                                HeldCluster& held,
-                               const Eigen::Matrix3Xd& positions,
                                const Eigen::Matrix<double, 3, D>& apq,
                                const Eigen::Vector3d& reference,
                                const Eigen::Vector3d& centre) {
@@ -541,49 +552,32 @@ int ClusterMatcher::match_held(int cluster,
       rigid + offset * held.keep.template block<1, D>(0, 0)
       + deviation.lazyProduct(held.keep.template block<D, D>(1, 0));
 
+  // The pulls' net force and first moment (held_pull()): with s_j = w_j / n_j the members'
+  // shares and u_j = q_j - q_H, f = sum s_j (g_j - x_j) and B = sum s_j (g_j - x_j) u_j^T. The
+  // goals' part is rest sums times T (g_j = g_0 + T b_j), and s_j (x_j - r) = p_j / n_j for the
+  // weighted offsets p_j still in the work rows: one more moments pass, before the goals
+  // overwrite them.
+  Eigen::Vector3d offsets;  // sum p_j / n_j
+  const double* counts = member_inverse_count_.data() + begin;
+  const Eigen::Matrix3d offset_moment =
+      moments<true>(px, py, pz, basis, basis + n, basis + 2 * static_cast<std::ptrdiff_t>(n), n,
+                    &offsets, counts);  // sum p_j q_j^T / n_j
+
   // T as for a free cluster, about the held centre: g = c_H + T (b - b_H), keeping the volume
   // only in the directions the held particles leave free.
   const Eigen::Matrix<double, 3, D> t = blend_fit<D>(fit, r, scale, params_, held.rank, held.span);
   const Eigen::Vector3d goal_centre = held_centre - t * held.mean.template head<D>();
   goal_rows<D>(t, goal_centre, basis, n, px, py, pz);
 
-  // The pulls' net force and first moment (held_pull()), in twelve scalar sums: as a 3 x 3
-  // outer product per member GCC keeps the sums in memory.
-  const double* x = positions.data();
-  const double* qx = basis;
-  const double* qy = basis + n;
-  const double* qz = basis + 2 * static_cast<std::ptrdiff_t>(n);
-  const double mx = mean_linear.x();
-  const double my = mean_linear.y();
-  const double mz = mean_linear.z();
-  double f[3] = {0.0, 0.0, 0.0};
-  double moment[9] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  for (int j = 0; j < n; ++j) {
-    const double* xi = x + 3 * static_cast<std::ptrdiff_t>(particle[j]);
-    const double share = weight[j] * inverse_count_.data()[particle[j]];
-    const double dx = share * (px[j] - xi[0]);
-    const double dy = share * (py[j] - xi[1]);
-    const double dz = share * (pz[j] - xi[2]);
-    const double ux = qx[j] - mx;
-    const double uy = qy[j] - my;
-    const double uz = qz[j] - mz;
-    f[0] += dx;
-    f[1] += dy;
-    f[2] += dz;
-    moment[0] += dx * ux;
-    moment[1] += dx * uy;
-    moment[2] += dx * uz;
-    moment[3] += dy * ux;
-    moment[4] += dy * uy;
-    moment[5] += dy * uz;
-    moment[6] += dz * ux;
-    moment[7] += dz * uy;
-    moment[8] += dz * uz;
-  }
+  const Eigen::Vector3d from_reference = goal_centre - reference;
+  const Eigen::Vector3d f =
+      held.share_total * from_reference + t * held.share_basis.template head<D>() - offsets;
+  const Eigen::Matrix3d moment = from_reference * held.share_offset.transpose()
+                                 + t * held.share_moment.template topRows<D>()
+                                 - (offset_moment - offsets * mean_linear.transpose());
   held.refitted = false;
-  held.pull = Eigen::Vector3d(f[0], f[1], f[2]) / held.weight;
-  held.pull_moment =
-      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(moment) * held.spread_inverse;
+  held.pull = f / held.weight;
+  held.pull_moment = moment * held.spread_inverse;
   return iterations;
 }
 
@@ -639,6 +633,22 @@ void ClusterMatcher::refit_held_with(int cluster, HeldCluster& held) {
       held.spread_inverse += v * v.transpose() / spread_values(e);
       held.span += v * v.transpose();
     }
+  }
+
+  // The pulls' rest sums over every member (the class's HeldCluster).
+  const double* counts = member_inverse_count_.data() + begin;
+  held.share_total = 0.0;
+  held.share_offset.setZero();
+  held.share_basis.setZero();
+  held.share_moment.setZero();
+  for (int j = 0; j < n; ++j) {
+    const double share = weight[j] * counts[j];
+    const Eigen::Matrix<double, D, 1> b = basis_of(j);
+    const Eigen::Vector3d u = b.template head<3>() - mean.template head<3>();
+    held.share_total += share;
+    held.share_offset += share * u;
+    held.share_basis.template head<D>() += share * b;
+    held.share_moment.template topRows<D>() += share * b * u.transpose();
   }
 
   // A basis U of the span of the held members' bases [1 b]: the columns of the Cholesky
@@ -842,7 +852,8 @@ std::size_t ClusterMatcher::held_bytes() const {
 }
 
 std::size_t ClusterMatcher::memory_bytes() const {
-  return member_particle_.size() * sizeof(int) + member_weight_.size() * sizeof(double)
+  return member_particle_.size() * sizeof(int)
+         + (member_weight_.size() + member_inverse_count_.size()) * sizeof(double)
          + basis_.size() * sizeof(double) + work_.size() * sizeof(double)
          + (cluster_offsets_.size() + match_iterations_.size()) * sizeof(int)
          + scale_.size() * sizeof(double) + moment_inverse_.size() * sizeof(double)

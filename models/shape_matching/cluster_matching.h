@@ -164,6 +164,14 @@ class ClusterMatcher {
     /// Columns 1..D of P ((D + 1) x D; see the class comment).
     Eigen::Matrix<double, kMaxFit, 9> keep = Eigen::Matrix<double, kMaxFit, 9>::Zero();
     bool refitted = false;  ///< refitted since its last match
+    // The pulls' sums over the rest shape (refit_held_with()), so that a match reads the
+    // members' positions once, in the moments' pass: with s_j = m_j / (M n_j) (n_j the
+    // particle's cluster count) and u_j = q_j - q_H, the shares' total sum s_j, sum s_j u_j,
+    // sum s_j b_j and sum s_j b_j u_j^T.
+    double share_total = 0.0;
+    Eigen::Vector3d share_offset = Eigen::Vector3d::Zero();
+    Eigen::Matrix<double, 9, 1> share_basis = Eigen::Matrix<double, 9, 1>::Zero();
+    Eigen::Matrix<double, 9, 3> share_moment = Eigen::Matrix<double, 9, 3>::Zero();
     // Written by each match: the pull shares (held_pull()).
     Eigen::Vector3d pull = Eigen::Vector3d::Zero();         ///< a
     Eigen::Matrix3d pull_moment = Eigen::Matrix3d::Zero();  ///< B
@@ -187,7 +195,6 @@ class ClusterMatcher {
   template <int D>
   int match_held(int cluster,
                  HeldCluster& held,
-                 const Eigen::Matrix3Xd& positions,
                  const Eigen::Matrix<double, 3, D>& apq,
                  const Eigen::Vector3d& reference,
                  const Eigen::Vector3d& centre);
@@ -205,8 +212,10 @@ class ClusterMatcher {
   // Per membership, cluster by cluster.
   std::vector<int> member_particle_;
   std::vector<double> member_weight_;  ///< m_i / M of the cluster
-  std::vector<double> basis_;          ///< per cluster a D x n_k row-major block
-  std::vector<double> work_;           ///< per cluster a 3 x n_k block: m p / M, then goals
+  /// 1 / the number of clusters holding the member's particle: the pulls' share of it
+  std::vector<double> member_inverse_count_;
+  std::vector<double> basis_;  ///< per cluster a D x n_k row-major block
+  std::vector<double> work_;   ///< per cluster a 3 x n_k block: m p / M, then goals
 
   // Per cluster.
   std::vector<int> cluster_offsets_;           ///< #clusters + 1
