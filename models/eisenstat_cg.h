@@ -43,13 +43,26 @@ auto over_ranges(std::span<const int> offsets, const Body& body) {
     filled += offsets[static_cast<std::size_t>(k) + 1] > offsets[static_cast<std::size_t>(k)];
   }
   std::array<Sums, kMaxRanges> sums{};
-  // Dynamic: the ranges differ in size (a sweep's separator is small), and whichever thread is
-  // free takes the next. A parallel region for one range (a small mesh's whole body and its
-  // empty separator) would only wait: under a busy second core, for a descheduled thread.
-#pragma omp parallel for schedule(dynamic, 1) if (filled > 1)
-  for (int k = 0; k < ranges; ++k) {
+  const auto run = [&](int k) {
     sums[static_cast<std::size_t>(k)] =
         body(offsets[static_cast<std::size_t>(k)], offsets[static_cast<std::size_t>(k) + 1]);
+  };
+  if (filled > 1) {
+    // Dynamic: the ranges differ in size (a sweep's separator is small), and whichever thread
+    // is free takes the next.
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int k = 0; k < ranges; ++k) {
+      run(k);
+    }
+  } else {
+    // One range with vertices (a small mesh's whole body and its empty separator): a plain
+    // loop. A region would only wait (under a busy second core, for a descheduled thread), and
+    // even one made serial by an if clause pays libgomp's team and schedule bookkeeping: the
+    // corotational FEM's step on the liver, which loops over ranges about fifty times, took
+    // 1.05 ms with the if clause and 0.92 ms without a region.
+    for (int k = 0; k < ranges; ++k) {
+      run(k);
+    }
   }
   Sums total{};
   for (int k = 0; k < ranges; ++k) {
