@@ -169,17 +169,15 @@ Eigen::Matrix3d moments(const double* px,
   return result;
 }
 
-/// The goals of n members: out_r[j] = centre(r) + sum_d t(r, d) basis[d n + j] for the three
-/// coordinates r, in one pass over the basis rows (vectorised over j; the outputs must not
-/// overlap `basis`).
+/// The goals of n members: out[3 j + r] = centre(r) + sum_d t(r, d) basis[d n + j] for the
+/// three coordinates r, in one pass over the basis rows (vectorised over j; `out` must not
+/// overlap `basis`). A pass a coordinate, with its D coefficients in registers, took 10% more.
 template <int D>
 void goal_rows(const Eigen::Matrix<double, 3, D>& t,
                const Eigen::Vector3d& centre,
                const double* __restrict basis,
                int n,
-               double* __restrict out_x,
-               double* __restrict out_y,
-               double* __restrict out_z) {
+               double* __restrict out) {
   double tx[D];
   double ty[D];
   double tz[D];
@@ -201,9 +199,9 @@ void goal_rows(const Eigen::Matrix<double, 3, D>& t,
       gy += ty[d] * b;
       gz += tz[d] * b;
     }
-    out_x[j] = gx;
-    out_y[j] = gy;
-    out_z[j] = gz;
+    out[3 * j] = gx;
+    out[3 * j + 1] = gy;
+    out[3 * j + 2] = gz;
   }
 }
 
@@ -290,18 +288,16 @@ ClusterMatcher::ClusterMatcher(const Eigen::Matrix3Xd& rest,
   for (int i = 0; i < num_particles; ++i) {
     particle_offsets_[index(i) + 1] += particle_offsets_[index(i)];
   }
-  if (work_.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
-    throw std::length_error("ClusterMatcher: more than 700 million memberships");
+  if (member_particle_.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw std::length_error("ClusterMatcher: more than 2^31 memberships");
   }
-  goal_slots_.resize(member_particle_.size());
+  slot_membership_.resize(member_particle_.size());
   slot_cluster_.resize(member_particle_.size());
   std::vector<int> next(particle_offsets_.begin(), particle_offsets_.end() - 1);
   for (int k = 0; k < num_clusters(); ++k) {
-    const int begin = cluster_begin(k);
-    const int size = cluster_end(k) - begin;
-    for (int m = begin; m < cluster_end(k); ++m) {
+    for (int m = cluster_begin(k); m < cluster_end(k); ++m) {
       const int slot = next[index(member_particle_[index(m)])]++;
-      goal_slots_[index(slot)] = {3 * begin + (m - begin), size};
+      slot_membership_[index(slot)] = m;
       slot_cluster_[index(slot)] = k;
     }
   }
@@ -334,6 +330,7 @@ void ClusterMatcher::precompute(const Eigen::Matrix3Xd& rest,
   member_weight_.resize(memberships);
   basis_.resize(D * memberships);
   work_.assign(3 * memberships, 0.0);
+  goals_.assign(3 * memberships + 1, 0.0);
   cluster_offsets_ = clusters.offsets;
   scale_.resize(index(count));
   moment_inverse_.resize(index(count) * D * D);
@@ -466,8 +463,8 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   const Eigen::Matrix<double, 3, D> t =
       blend_fit<D>(fit, r, scale_[index(cluster)], params_, 0, Eigen::Matrix3d::Zero());
 
-  // Goals g_j = T b_j + c, over the work rows (the offsets are no longer needed).
-  goal_rows<D>(t, Eigen::Vector3d(cx, cy, cz), basis, n, px, py, pz);
+  // Goals g_j = T b_j + c.
+  goal_rows<D>(t, Eigen::Vector3d(cx, cy, cz), basis, n, goals_.data() + 3 * std::ptrdiff_t{begin});
   return iterations;
 }
 
@@ -555,8 +552,7 @@ int ClusterMatcher::match_held(int cluster,
   // The pulls' net force and first moment (held_pull()): with s_j = w_j / n_j the members'
   // shares and u_j = q_j - q_H, f = sum s_j (g_j - x_j) and B = sum s_j (g_j - x_j) u_j^T. The
   // goals' part is rest sums times T (g_j = g_0 + T b_j), and s_j (x_j - r) = p_j / n_j for the
-  // weighted offsets p_j still in the work rows: one more moments pass, before the goals
-  // overwrite them.
+  // weighted offsets p_j in the work rows: one more moments pass.
   Eigen::Vector3d offsets;  // sum p_j / n_j
   const double* counts = member_inverse_count_.data() + begin;
   const Eigen::Matrix3d offset_moment =
@@ -567,7 +563,7 @@ int ClusterMatcher::match_held(int cluster,
   // only in the directions the held particles leave free.
   const Eigen::Matrix<double, 3, D> t = blend_fit<D>(fit, r, scale, params_, held.rank, held.span);
   const Eigen::Vector3d goal_centre = held_centre - t * held.mean.template head<D>();
-  goal_rows<D>(t, goal_centre, basis, n, px, py, pz);
+  goal_rows<D>(t, goal_centre, basis, n, goals_.data() + 3 * std::ptrdiff_t{begin});
 
   const Eigen::Vector3d from_reference = goal_centre - reference;
   const Eigen::Vector3d f =
@@ -781,7 +777,7 @@ Eigen::Vector3d ClusterMatcher::held_pull(int particle) const {
     const HeldCluster& held = held_pool_[index(slot)];
     const int begin = cluster_begin(cluster);
     const int size = cluster_end(cluster) - begin;
-    const std::ptrdiff_t j = goal_slots_[index(s)].start - 3 * static_cast<std::ptrdiff_t>(begin);
+    const int j = slot_membership_[index(s)] - begin;
     const double* b = basis_.data() + static_cast<std::ptrdiff_t>(dim_) * begin + j;
     const Eigen::Vector3d q(b[0], b[size], b[2 * static_cast<std::ptrdiff_t>(size)]);
     sum += held.pull + held.pull_moment * (q - held.mean.head<3>());
@@ -797,11 +793,8 @@ int ClusterMatcher::cluster_of_membership(int membership) const {
 }
 
 Eigen::Vector3d ClusterMatcher::membership_goal(int membership) const {
-  const int cluster = cluster_of_membership(membership);
-  const int begin = cluster_begin(cluster);
-  const int size = cluster_end(cluster) - begin;
-  const double* x = work_.data() + 3 * static_cast<std::ptrdiff_t>(begin) + (membership - begin);
-  return {x[0], x[size], x[2 * size]};
+  const double* g = goals_.data() + 3 * static_cast<std::ptrdiff_t>(membership);
+  return {g[0], g[1], g[2]};
 }
 
 int ClusterMatcher::match(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd& goals) {
@@ -854,12 +847,12 @@ std::size_t ClusterMatcher::held_bytes() const {
 std::size_t ClusterMatcher::memory_bytes() const {
   return member_particle_.size() * sizeof(int)
          + (member_weight_.size() + member_inverse_count_.size()) * sizeof(double)
-         + basis_.size() * sizeof(double) + work_.size() * sizeof(double)
+         + (basis_.size() + work_.size() + goals_.size()) * sizeof(double)
          + (cluster_offsets_.size() + match_iterations_.size()) * sizeof(int)
          + scale_.size() * sizeof(double) + moment_inverse_.size() * sizeof(double)
          + (rest_centres_.size() + reference_.size()) * sizeof(double)
          + rotations_.size() * sizeof(Eigen::Quaterniond) + particle_offsets_.size() * sizeof(int)
-         + goal_slots_.size() * sizeof(GoalSlot) + slot_cluster_.size() * sizeof(int)
+         + (slot_membership_.size() + slot_cluster_.size()) * sizeof(int)
          + static_cast<std::size_t>(inverse_count_.size()) * sizeof(double) + held_bytes();
 }
 

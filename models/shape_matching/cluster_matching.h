@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "models/double_lanes.h"
 #include "models/shape_matching/clusters.h"
 #include "models/shape_matching/shape_matching.h"
 
@@ -93,14 +94,14 @@ class ClusterMatcher {
   /// Particle i's goal: the mean of its clusters' goals, summed in increasing cluster order (the
   /// same result on any number of threads). Valid after every cluster was matched.
   Eigen::Vector3d goal(int particle) const {
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    // Four lanes a goal (its three coordinates and the next one's x, which the padding keeps in
+    // range): one load and one add a membership, each lane summed in the same order.
+    Quad sum = {0.0, 0.0, 0.0, 0.0};
     for (int s = particle_offsets_[index(particle)]; s < particle_offsets_[index(particle) + 1];
          ++s) {
-      const GoalSlot slot = goal_slots_[index(s)];
-      const double* x = work_.data() + slot.start;
-      sum += Eigen::Vector3d(x[0], x[slot.stride], x[2 * slot.stride]);
+      sum += load_quad(goals_.data() + 3 * static_cast<std::ptrdiff_t>(slot_membership_[index(s)]));
     }
-    return sum * inverse_count_(particle);
+    return Eigen::Vector3d(sum[0], sum[1], sum[2]) * inverse_count_(particle);
   }
   /// The goal of one membership (cluster's goal for its particle), after its cluster was matched.
   Eigen::Vector3d membership_goal(int membership) const;
@@ -215,7 +216,10 @@ class ClusterMatcher {
   /// 1 / the number of clusters holding the member's particle: the pulls' share of it
   std::vector<double> member_inverse_count_;
   std::vector<double> basis_;  ///< per cluster a D x n_k row-major block
-  std::vector<double> work_;   ///< per cluster a 3 x n_k block: m p / M, then goals
+  std::vector<double> work_;   ///< per cluster a 3 x n_k block: m (x - r) / M
+  /// Per membership its goal (x, y, z side by side, for the per-particle gathers), and one more
+  /// value so that four lanes can be read at the last.
+  std::vector<double> goals_;
 
   // Per cluster.
   std::vector<int> cluster_offsets_;           ///< #clusters + 1
@@ -226,18 +230,11 @@ class ClusterMatcher {
   std::vector<double> reference_;      ///< 3 per cluster, m: c of the last match (c0 at first)
   std::vector<int> match_iterations_;  ///< match()'s rotation iterations per cluster
 
-  // Per particle: its memberships (compressed rows), as where their goals sit in work_.
+  // Per particle: its memberships (compressed rows), in increasing cluster order.
   std::vector<int> particle_offsets_;  ///< #P + 1
-  /// Where a membership's goal sits in work_: its x, and the distance to its y (and from y to
-  /// z). 32-bit, side by side: the per-particle gathers read one 8-byte entry a membership (work_
-  /// is limited to 2^31 values: 700 million memberships).
-  struct GoalSlot {
-    int start;
-    int stride;
-  };
-  std::vector<GoalSlot> goal_slots_;
-  std::vector<int> slot_cluster_;  ///< the membership's cluster
-  Eigen::VectorXd inverse_count_;  ///< 1 / number of clusters holding the particle
+  std::vector<int> slot_membership_;   ///< the membership
+  std::vector<int> slot_cluster_;      ///< the membership's cluster
+  Eigen::VectorXd inverse_count_;      ///< 1 / number of clusters holding the particle
 
   // Held particles.
   std::vector<unsigned char> held_flags_;     ///< per particle: 1 if held (the last hold())
