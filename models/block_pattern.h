@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #pragma once
 
+#include "models/double_lanes.h"
+
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 
@@ -96,12 +98,16 @@ class BlockPattern {
     const double* column0 = matrix_.valuePtr() + column_values_begin(c);
     const double* column1 = column0 + 3 * degree;
     const double* column2 = column1 + 3 * degree;
-    // Nine independent sums (a row of the block times a component of y_n each), so the
-    // multiply-adds of consecutive neighbours overlap instead of waiting on three running sums.
+    // Nine independent sums (a row of the block times a component of y_n each), as three
+    // vectors: lane k of sum i adds column i's strip entry k times y_n's component k, so each
+    // strip is one load of four lanes (the fourth is the next value in the array, times 0: a
+    // strip is never the array's last, since the last vertex's last slot is its own) and a
+    // neighbour three multiply-adds where scalars took nine. Each lane is the sum the scalar
+    // loop made, in the same order: the results are the same to the bit.
     const int* neighbour = row.data();
-    double s00 = 0.0, s01 = 0.0, s02 = 0.0;
-    double s10 = 0.0, s11 = 0.0, s12 = 0.0;
-    double s20 = 0.0, s21 = 0.0, s22 = 0.0;
+    Quad sum0{};
+    Quad sum1{};
+    Quad sum2{};
     // The sweep's newest value is its nearest neighbour's (c - 1 forward, c + 1 backward: the
     // vertex order keeps neighbours close), so that neighbour is added last, and the sums over the
     // others do not wait for it: ascending for the lower part, descending for the upper.
@@ -109,23 +115,15 @@ class BlockPattern {
     const int begin = lower ? first : last - 1;
     for (int i = 0, slot = begin; i < last - first; ++i, slot += step) {
       const double* yn = y + 3 * neighbour[slot];
-      const double y0 = yn[0];
-      const double y1 = yn[1];
-      const double y2 = yn[2];
+      const Quad components = {yn[0], yn[1], yn[2], 0.0};  // y + 3 n + 3 may be past the end
       const int at = 3 * slot;
-      s00 += column0[at] * y0;
-      s01 += column0[at + 1] * y1;
-      s02 += column0[at + 2] * y2;
-      s10 += column1[at] * y0;
-      s11 += column1[at + 1] * y1;
-      s12 += column1[at + 2] * y2;
-      s20 += column2[at] * y0;
-      s21 += column2[at + 1] * y1;
-      s22 += column2[at + 2] * y2;
+      sum0 += load_quad(column0 + at) * components;
+      sum1 += load_quad(column1 + at) * components;
+      sum2 += load_quad(column2 + at) * components;
     }
-    out[0] = (s00 + s01) + s02;
-    out[1] = (s10 + s11) + s12;
-    out[2] = (s20 + s21) + s22;
+    out[0] = (sum0[0] + sum0[1]) + sum0[2];
+    out[1] = (sum1[0] + sum1[1]) + sum1[2];
+    out[2] = (sum2[0] + sum2[1]) + sum2[2];
   }
 
   /// Writes `block` (a 3x3 matrix) into the entries `where`.
