@@ -161,6 +161,19 @@
 // did not settle on this VM that day: one thread 55.7 ms before and 61.8 after in runs minutes
 // apart, two threads 33.4 and 42.7, the same code 40-82 ms an hour earlier.
 //
+// 2026-12-03: the loops over vertex ranges (over_ranges(), eisenstat_cg.h) run as a plain loop
+// when one range has vertices, the liver's case: a region serial by its if clause had still paid
+// libgomp's team and dynamic schedule about fifty times a step. Liver, one thread, builds
+// alternated three times (medians of 5): 955 -> 1,082 steps/s (1.05 -> 0.92 ms). Then
+// BlockPattern::neighbour_sum (the sweeps' and the quadratic form's gathers) multiplies a
+// neighbour's block in three four-lane multiply-adds, one per column strip, each lane the scalar
+// loop's sum in its order: five alternations, solve 0.577 -> 0.525 ms, 1,011 -> 1,068 steps/s;
+// liver_x16 one thread about 1.1x (26-28 -> 29.8 steps/s; the VM's speed moved by 1.5x within
+// the hour), two threads the same (35 steps/s: the two-thread solve is bound by the memory both
+// cores share). cholmod_match unchanged to its last digit (0.0132%): the same iterates. Summing
+// even and odd neighbours apart (two chains) gained nothing further; nor did the SSOR blocks'
+// 3x3 products in lanes.
+//
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
 // under contact; the rule costs 23% on the liver and buys the contact force (within 0.06% of

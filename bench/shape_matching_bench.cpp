@@ -64,6 +64,14 @@
 //   changed, the tests' tolerances hold. In bullet_bench, same process: bullet_softbody's step
 //   14.1-14.3x shape_matching:thesis_one_pass's in two runs of three, 12.2x in the third (its
 //   first after a build: 73 us there).
+//   2026-12-03, bullet_bench, builds alternated, medians of 5: a held cluster's pull sums (its
+//   net force and first moment, which the held particles supply) made from rest sums times its
+//   fit and one weighted moments pass over the offsets, instead of a gather of every member's
+//   position after its goals: shape_matching:thesis_one_pass 19.7k -> 20.5k steps/s,
+//   bullet_softbody against it 13.7x -> 14.7x in the same process. Each membership's goal then
+//   kept as x, y, z side by side (one four-lane load a membership in the per-particle gather):
+//   19.7-19.8k -> 20.7k steps/s against the code before both. Positions to round-off (the sums'
+//   order changed).
 #include "bench/bench_liver.h"
 #include "bench/thread_cpu_clock.h"
 #include "geometry/mesh_data.h"
