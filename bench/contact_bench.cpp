@@ -23,6 +23,9 @@
 // - model_ms: the model's median step (all passes); steps_per_s_with_contact: steps over the
 //   summed CPU time of model and contact;
 // - steps_touching, max_triangle_pairs (the thesis's measure of contact, table 4.2);
+// - mean_iterations, iterations_touching (the models that solve linear systems): the solver's
+//   iterations a solve over every pass of every step, and over the touching steps, where
+//   corotational_fem's solves take twice those of the free steps;
 // - what the contact bought, beside what it cost: peak_tool_force_N (the largest force on the
 //   tool at any step) and max_penetration_mm (the deepest the tool went into the tissue, or the
 //   tissue into the tool, at any step's end), as softbench run reports them;
@@ -238,6 +241,8 @@ void contact_benchmark(benchmark::State& state,
   const int steps = bench::unless_smoke(scene.num_steps(), 20);
 
   std::vector<double> touching, apart, model;
+  // Linear-solver iterations and solves (all passes), over every step and the touching ones.
+  long iterations = 0, solves = 0, touching_iterations = 0, touching_solves = 0;
   double contact_total = 0.0, model_total = 0.0;
   long stepped = 0;
   int max_pairs = 0;
@@ -262,7 +267,14 @@ void contact_benchmark(benchmark::State& state,
         state.SkipWithError((model_name + " diverged on " + scene_name).c_str());
         return;
       }
-      (stepper.loading().tool_force() > 0.0 ? touching : apart).push_back(1e3 * contact_seconds);
+      const bool loaded = stepper.loading().tool_force() > 0.0;
+      (loaded ? touching : apart).push_back(1e3 * contact_seconds);
+      iterations += stats.iterations;
+      solves += stats.linear_solves;
+      if (loaded) {
+        touching_iterations += stats.iterations;
+        touching_solves += stats.linear_solves;
+      }
       forces.push_back(stepper.loading().tool_force());
       model.push_back(1e3 * model_seconds);
       iteration_contact += contact_seconds;
@@ -285,6 +297,14 @@ void contact_benchmark(benchmark::State& state,
   state.counters["steps_touching"] =
       static_cast<double>(touching.size()) / static_cast<double>(state.iterations());
   state.counters["max_triangle_pairs"] = max_pairs;
+  if (solves > 0) {
+    state.counters["mean_iterations"] =
+        static_cast<double>(iterations) / static_cast<double>(solves);
+    state.counters["iterations_touching"] =
+        touching_solves > 0
+            ? static_cast<double>(touching_iterations) / static_cast<double>(touching_solves)
+            : 0.0;
+  }
   state.counters["peak_tool_force_N"] =
       forces.empty() ? 0.0 : *std::max_element(forces.begin(), forces.end());
   state.counters["max_penetration_mm"] = 1e3 * max_penetration;
