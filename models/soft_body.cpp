@@ -30,10 +30,6 @@ void SoftBody::check_state(const Eigen::Matrix3Xd& positions,
   check_field("set_state", "velocities", velocities);
 }
 
-Eigen::Matrix3Xd SoftBody::constraint_forces() const {
-  return Eigen::Matrix3Xd::Zero(3, positions().cols());
-}
-
 double SoftBody::elastic_energy() const {
   return std::numeric_limits<double>::quiet_NaN();
 }

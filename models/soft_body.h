@@ -108,8 +108,10 @@ class SoftBody {
   virtual void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) = 0;
 
   /// N (3 x #V): the force each constraint of the last step exerted on its vertex; zero at
-  /// unconstrained vertices. At static equilibrium they balance the external loads.
-  virtual Eigen::Matrix3Xd constraint_forces() const;
+  /// unconstrained vertices. At static equilibrium they balance the external loads. Held by the
+  /// model (valid until its next non-const call): the harness reads it after every pass of a
+  /// contact step, and a copy of the liver's forces a read was 10% of the contact's work.
+  virtual const Eigen::Matrix3Xd& constraint_forces() const = 0;
   /// J; NaN for a model without an elastic energy (shape matching).
   virtual double elastic_energy() const;
   /// Bytes the model holds (matrices, factors, per-element data): a memory metric.

@@ -2,10 +2,10 @@
 // The adapter core shared by both Bullet models: loading the mesh into a btSoftBody, mapping
 // constraints onto kinematic nodes and forces, copying the state back, reactions.
 #include "models/bullet/bullet_body.h"
-#include "models/bullet/bullet_vectors.h"
 
 #include "geometry/mesh_measures.h"
 #include "geometry/mesh_topology.h"
+#include "models/bullet/bullet_vectors.h"
 
 #include <BulletSoftBody/btSoftBody.h>
 
@@ -62,6 +62,7 @@ BulletBody::BulletBody(std::string name,
 BulletBody::~BulletBody() = default;
 
 void BulletBody::reset() {
+  forces_estimated_ = false;
   // A fresh world: Bullet keeps state in many places (pose frames, clusters, solver scratch,
   // dbvt trees), so rebuilding is the only exact restore.
   world_.reset();
@@ -90,6 +91,7 @@ void BulletBody::update_kinematic_nodes(const std::vector<int>& exact) {
 }
 
 StepStats BulletBody::step(double dt, const StepInput& input) {
+  forces_estimated_ = false;
   StepStats stats;
   if (diverged_) {
     stats.finite = false;  // Bullet is not called on a NaN state: it may loop or crash there
@@ -105,10 +107,10 @@ StepStats BulletBody::step(double dt, const StepInput& input) {
     }
     // Bullet has no sliding constraint: a sliding one holds its vertex where the free flight
     // x + dt v meets the plane, so the vertex slides from step to step but not within one.
-    const Eigen::Vector3d target =
-        constraint.slides() ? constraint.place(positions_.col(constraint.vertex)
-                                               + dt * velocities_.col(constraint.vertex))
-                            : constraint.target;
+    const Eigen::Vector3d target = constraint.slides()
+                                       ? constraint.place(positions_.col(constraint.vertex)
+                                                          + dt * velocities_.col(constraint.vertex))
+                                       : constraint.target;
     if (std::isinf(constraint.stiffness)) {
       exact_.push_back(constraint.vertex);
       exact_targets_.push_back(target);
@@ -174,6 +176,7 @@ StepStats BulletBody::step(double dt, const StepInput& input) {
 }
 
 void BulletBody::set_velocities(const Eigen::Matrix3Xd& velocities) {
+  forces_estimated_ = false;
   check_velocities(velocities);
   if (last_.taken) {
     // The reaction estimate is m (v_after - v_before) / dt - f: shift both ends alike.
@@ -189,6 +192,7 @@ void BulletBody::set_velocities(const Eigen::Matrix3Xd& velocities) {
 }
 
 void BulletBody::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) {
+  forces_estimated_ = false;
   check_state(positions, velocities);
   positions_ = positions;
   btSoftBody& body = world_->body();
@@ -200,7 +204,15 @@ void BulletBody::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matri
   set_velocities(velocities);
 }
 
-Eigen::Matrix3Xd BulletBody::constraint_forces() const {
+const Eigen::Matrix3Xd& BulletBody::constraint_forces() const {
+  if (!forces_estimated_) {
+    constraint_forces_ = estimate_constraint_forces();
+    forces_estimated_ = true;
+  }
+  return constraint_forces_;
+}
+
+Eigen::Matrix3Xd BulletBody::estimate_constraint_forces() const {
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, positions_.cols());
   if (!last_.taken || diverged_) {
     return forces;

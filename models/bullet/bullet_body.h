@@ -113,7 +113,8 @@ class BulletBody final : public SoftBody {
   /// step. A diverged body stays diverged.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  Eigen::Matrix3Xd constraint_forces() const override;
+  /// Estimated from the last step's loads at the first call after a change of state.
+  const Eigen::Matrix3Xd& constraint_forces() const override;
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;
 
@@ -129,6 +130,8 @@ class BulletBody final : public SoftBody {
     std::vector<PenaltySpring> penalties;
   };
 
+  /// The reactions constraint_forces() reports, from the last step and the current state.
+  Eigen::Matrix3Xd estimate_constraint_forces() const;
   /// Zero mass for nodes held exactly this step; the lumped mass back for released ones.
   void update_kinematic_nodes(const std::vector<int>& exact);
 
@@ -143,6 +146,8 @@ class BulletBody final : public SoftBody {
   std::vector<char> kinematic_;  ///< per node: mass currently 0 because held exactly
   bool diverged_ = false;
   LastStep last_;
+  mutable Eigen::Matrix3Xd constraint_forces_;  ///< estimate_constraint_forces(), kept
+  mutable bool forces_estimated_ = false;       ///< whether constraint_forces_ is for this state
   // Per-step scratch, sized once.
   std::vector<char> kinematic_next_;
   std::vector<int> exact_;

@@ -123,6 +123,7 @@ void CorotationalFemModel::eliminate_exact_constraints(double dt) {
 void CorotationalFemModel::compute_reactions(double dt) {
   implicit_reactions(elimination_, *pattern_, constraints_, positions_, velocity_change_, dt,
                      constraint_forces_);
+  forces_published_ = false;
 }
 
 StepStats CorotationalFemModel::step_timed(double dt,

@@ -59,7 +59,7 @@ class MassSpringModel final : public SoftBody {
   /// Also drops the implicit solve's warm start (the last dv, made for the old velocities).
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  const Eigen::Matrix3Xd& constraint_forces() const override { return constraint_forces_; }
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;
 

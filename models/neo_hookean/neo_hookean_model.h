@@ -47,7 +47,7 @@ class NeoHookeanModel final : public SoftBody {
   /// A step predicts x + dt v from them and keeps no other velocity state.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  const Eigen::Matrix3Xd& constraint_forces() const override { return constraint_forces_; }
   /// sum_e V_e Psi(F_e) at the current positions, J (zero at rest and for rigid motions).
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;

@@ -43,7 +43,7 @@ class ProjectiveDynamicsModel final : public SoftBody {
   const Eigen::Matrix3Xd& velocities() const override { return velocities_; }
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  const Eigen::Matrix3Xd& constraint_forces() const override { return constraint_forces_; }
   /// corotational_fem's energy (the same material), with the exact polar rotation (SVD).
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;
@@ -69,7 +69,7 @@ class ProjectiveDynamicsModel final : public SoftBody {
   Eigen::Matrix3Xd rest_positions_;
   double rest_size_ = 0.0;
   std::vector<TetRest> elements_;
-  std::vector<int> vertex_offsets_;     ///< CSR per vertex: element * 4 + local index
+  std::vector<int> vertex_offsets_;  ///< CSR per vertex: element * 4 + local index
   std::vector<int> vertex_incidences_;
   Eigen::SparseMatrix<double> laplacian_;  ///< sum (w_s + w_v) G^T G (#V x #V, both triangles)
 
@@ -77,9 +77,9 @@ class ProjectiveDynamicsModel final : public SoftBody {
   Eigen::SparseMatrix<double> system_;  ///< A with the eliminated rows and columns identity's
   std::unique_ptr<CholmodFactor> factor_;
   double factored_dt_ = 0.0;
-  std::vector<char> eliminated_;        ///< per vertex: eliminated in the factor
+  std::vector<char> eliminated_;  ///< per vertex: eliminated in the factor
   std::vector<int> eliminated_list_;
-  std::vector<char> wanted_;            ///< scratch: this step's eliminated set
+  std::vector<char> wanted_;  ///< scratch: this step's eliminated set
   HeldRows held_rows_;
 
   // State.
@@ -101,9 +101,9 @@ class ProjectiveDynamicsModel final : public SoftBody {
   Eigen::Matrix3Xd next_;
   Eigen::Matrix3Xd eliminated_gradients_;  ///< the gradient at each eliminated vertex
   Eigen::Matrix3Xd eliminated_targets_;    ///< the step's target of each eliminated vertex
-  Eigen::MatrixX3d rhs_;                  ///< b, #V x 3
+  Eigen::MatrixX3d rhs_;                   ///< b, #V x 3
   Eigen::MatrixX3d solution_;
-  double mass_coefficient_ = 0.0;         ///< 1/dt^2 + alpha/dt
+  double mass_coefficient_ = 0.0;  ///< 1/dt^2 + alpha/dt
 };
 
 }  // namespace softbench::projective_dynamics

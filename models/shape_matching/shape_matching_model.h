@@ -42,7 +42,7 @@ class ShapeMatchingModel final : public SoftBody {
   /// on the positions only and are kept.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  const Eigen::Matrix3Xd& constraint_forces() const override { return constraint_forces_; }
   double elastic_energy() const override;  ///< NaN: shape matching has no energy
   std::size_t memory_bytes() const override;
 

@@ -43,7 +43,7 @@ class XpbdModel final : public SoftBody {
   /// Nothing is kept that depends on the velocities (lambda restarts every substep).
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  Eigen::Matrix3Xd constraint_forces() const override { return constraint_forces_; }
+  const Eigen::Matrix3Xd& constraint_forces() const override { return constraint_forces_; }
   double elastic_energy() const override;
   std::size_t memory_bytes() const override;
 
