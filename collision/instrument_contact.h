@@ -129,6 +129,9 @@ class InstrumentContact {
   const ContactReport& report() const { return report_; }
 
  private:
+  /// predicted_, start_ and tissue_motion_ for a step from `positions` with `velocities`;
+  /// returns the box of the tissue where it starts and in its free flight.
+  Aabb start_step(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities, double dt);
   void resolve_tissue_vertices(const Eigen::Isometry3d& pose, const Eigen::Matrix3Xd& positions);
   void resolve_instrument_vertices(const Eigen::Isometry3d& pose);
   void propose(int vertex, const Eigen::Vector3d& move, const Eigen::Vector3d& push, bool slides);

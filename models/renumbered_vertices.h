@@ -45,6 +45,8 @@ class RenumberedVertices {
   /// outer.col(old_of_new[i]) = inner.col(i).
   void to_outer(const Eigen::Matrix3Xd& inner, Eigen::Matrix3Xd& outer) const;
   Eigen::Matrix3Xd to_outer(const Eigen::Matrix3Xd& inner) const;
+  /// The model's vertex `inner` in the mesh's numbering.
+  int to_outer(int inner) const { return order_.old_of_new[static_cast<std::size_t>(inner)]; }
   /// A 3#V x 3#V matrix in the model's numbering, in the mesh's.
   Eigen::SparseMatrix<double> to_outer(const Eigen::SparseMatrix<double>& inner) const;
   /// `input` in the model's numbering: its constraints and forces are copied into storage kept

@@ -107,13 +107,7 @@ class CorotationalFemModel final : public SoftBody {
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
   /// In the mesh's numbering, mapped from the model's at the first call after a step.
-  const Eigen::Matrix3Xd& constraint_forces() const override {
-    if (!forces_published_) {
-      renumbering_.to_outer(constraint_forces_, published_forces_);
-      forces_published_ = true;
-    }
-    return published_forces_;
-  }
+  const Eigen::Matrix3Xd& constraint_forces() const override;
   /// At the current positions, with the exact polar rotation (SVD) whatever `rotation` is, so
   /// it is a function of the positions alone.
   double elastic_energy() const override;
@@ -214,7 +208,13 @@ class CorotationalFemModel final : public SoftBody {
   Eigen::Matrix3Xd velocities_;
   Eigen::Matrix3Xd constraint_forces_;         ///< in the model's numbering
   mutable Eigen::Matrix3Xd published_forces_;  ///< constraint_forces(): the mesh's numbering
-  mutable bool forces_published_ = false;      ///< whether published_forces_ are constraint_forces_
+  mutable bool forces_published_ = false;
+  /// The last step's constrained vertices (the model's numbering): constraint_forces_ is zero
+  /// elsewhere.
+  std::vector<int> force_vertices_;
+  mutable std::vector<int>
+      published_vertices_;  ///< force_vertices_ when last published      ///< whether
+                            ///< published_forces_ are constraint_forces_
   std::vector<Eigen::Quaterniond> quaternions_;  ///< warm starts (rotation "quaternion")
 
   // Per-step work arrays, sized once.
