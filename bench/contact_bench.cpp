@@ -104,21 +104,6 @@
 // -> 858 / 867 with no OpenMP construct on one range, then 875 / 923 -> 909 / 1,017 with the
 // sweeps' gathers in lanes (model_ms 0.97 / 0.98 -> 0.94 / 0.89); tool forces the same to every
 // digit (force_vs_cholmod 0.0047% / 0.00093%, peaks 0.4271 / 6.337 N).
-//
-// 2026-12-03, later: where corotational_fem's press costs beyond its liver step. Per step, one
-// run: the contact is 8% of the step's time (0.08 of 1.1 ms on average), the model the rest,
-// and the model's steps while touching cost more because its solves take twice the
-// iterations: 9.2 a solve against 4.3-4.8 apart (4 is the stopping rule's least, kDelay). The
-// warm start leaves an energy-norm error of about 1% of the step's velocity while touching
-// against 0.06% apart: the held corners move with the probe and their response is new each
-// step. Aggregates on the coarse level (coarse_vertices 256 / 128 / 64) took the touching
-// iterations only to 9.0 / 8.7 / 8.4 and no time. The warm start then combined the free
-// unknowns only, the known ones kept (GalerkinWarmStart::improve: an identity row weighed a
-// mismatch a thousandfold a free row's, holding the combination near the guess): touching
-// iterations 9.22 -> 8.98 on liver_press (all steps 5.93 -> 5.89), 6.52 -> 6.51 on liver_pull;
-// force_vs_cholmod 0.0047% -> 0.0053% and 0.00093% -> 0.00093%, peaks 0.4271 / 6.337 N; the
-// time within the VM's noise (three runs of each build alternated: 731-911 steps/s with
-// contact on press for both).
 #include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "harness/run/scene_mesh.h"

@@ -95,12 +95,10 @@ void ConstraintElimination::eliminate(BlockPattern& pattern,
       pattern.set(row, mirrored);
     }
   }
-  held_.clear();
   for (const int c : exact) {
     if (!constraints.of(c)->slides()) {
       rhs.segment<3>(3 * c) = known.col(c);
       solution.segment<3>(3 * c) = known.col(c);
-      held_.push_back(c);
     }
   }
   for (std::size_t k = 0; k < sliding_.size(); ++k) {
@@ -169,28 +167,15 @@ void ConstraintElimination::to_world(Eigen::VectorXd& solution) const {
   }
 }
 
-void ConstraintElimination::to_frame(Eigen::VectorXd& values) const {
-  for (std::size_t k = 0; k < sliding_.size(); ++k) {
-    const int c = sliding_[k];
-    values.segment<3>(3 * c) = frames_[k].transpose() * values.segment<3>(3 * c);
-  }
-}
-
-void ConstraintElimination::clear_known(Eigen::VectorXd& values) const {
-  for (const int c : held_) {
-    values.segment<3>(3 * c).setZero();
-  }
-  for (std::size_t k = 0; k < sliding_.size(); ++k) {
-    values.segment(3 * sliding_[k], held_counts_[k]).setZero();
-  }
-}
-
 const double* ConstraintElimination::in_frame(const Eigen::Matrix3Xd& values) {
   if (sliding_.empty()) {
     return values.data();
   }
   framed_ = Eigen::Map<const Eigen::VectorXd>(values.data(), values.size());
-  to_frame(framed_);
+  for (std::size_t k = 0; k < sliding_.size(); ++k) {
+    const int c = sliding_[k];
+    framed_.segment<3>(3 * c) = frames_[k].transpose() * framed_.segment<3>(3 * c);
+  }
   return framed_.data();
 }
 
@@ -234,7 +219,8 @@ void exact_velocity_changes(const VertexConstraints& constraints,
                             Eigen::Matrix3Xd& changes) {
   for (const int v : constraints.exact_vertices()) {
     // What lands the free flight x + dt v on the target (along the normal: on its plane).
-    changes.col(v) = constraints.of(v)->gap(positions.col(v) + dt * velocities.col(v)) / dt;
+    changes.col(v) =
+        constraints.of(v)->gap(positions.col(v) + dt * velocities.col(v)) / dt;
   }
 }
 

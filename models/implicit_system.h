@@ -3,7 +3,6 @@
 
 #include "models/block_pattern.h"
 #include "models/soft_body.h"
-#include "models/system_solver.h"
 #include "models/vertex_constraints.h"
 
 #include <Eigen/Core>
@@ -32,7 +31,7 @@ namespace softbench {
 /// same pattern, still symmetric positive definite), then the known coordinates are eliminated
 /// as above and the free ones stay unknowns. to_world() turns the solution back; the reaction
 /// (A u - b)_c lies along the held directions to the solver's accuracy.
-class ConstraintElimination final : public UnknownFrames {
+class ConstraintElimination {
  public:
   /// `known` is 3 x #V, read at the exact vertices of `constraints` (along the normal only at a
   /// sliding one). `solution` gets u_c there (also an iterative solver's best guess), in the
@@ -45,11 +44,7 @@ class ConstraintElimination final : public UnknownFrames {
 
   /// The solved system's unknowns back in the world frame (the sliding vertices' frames undone);
   /// call it after the solve, before reading the solution.
-  void to_world(Eigen::VectorXd& solution) const override;
-  /// A world-frame vector (3 #V) into the last eliminate()'s frames.
-  void to_frame(Eigen::VectorXd& values) const override;
-  /// Zeroes the coordinates the last eliminate() made known (in its frames).
-  void clear_known(Eigen::VectorXd& values) const override;
+  void to_world(Eigen::VectorXd& solution) const;
   /// A vector added to the unknowns (the solver's offset, 3 #V) in the eliminated system's frame:
   /// `values` itself unless a constraint slides.
   const double* in_frame(const Eigen::Matrix3Xd& values);
@@ -72,14 +67,13 @@ class ConstraintElimination final : public UnknownFrames {
 
   // Grown to the largest constraint set seen, never shrunk: steady steps do not allocate.
   std::vector<int> vertices_;
-  std::vector<int> value_offsets_;       ///< into saved_values_, per saved vertex (+1)
-  std::vector<double> saved_values_;     ///< each vertex's three columns (= rows: A is symmetric)
-  std::vector<double> saved_rhs_;        ///< 3 per saved vertex
-  std::vector<int> held_;                ///< the fully held vertices
+  std::vector<int> value_offsets_;    ///< into saved_values_, per saved vertex (+1)
+  std::vector<double> saved_values_;  ///< each vertex's three columns (= rows: A is symmetric)
+  std::vector<double> saved_rhs_;     ///< 3 per saved vertex
   std::vector<int> sliding_;             ///< the sliding vertices, in elimination order
   std::vector<int> held_counts_;         ///< per sliding vertex: how many directions it holds
   std::vector<Eigen::Matrix3d> frames_;  ///< per sliding vertex: held directions, then free
-  Eigen::VectorXd framed_;               ///< in_frame()'s result when a constraint slides
+  Eigen::VectorXd framed_;                ///< in_frame()'s result when a constraint slides
 };
 
 /// The velocity change that lands each exact vertex on its target at the end of a step of dt:

@@ -355,21 +355,10 @@ class ProjectedWarmStartSolver final : public SystemSolver {
                     const Eigen::VectorXd& b,
                     Eigen::VectorXd& x,
                     const double* offset) override {
-    // The remembered solutions are kept in the world frame (UnknownFrames), turned into this
-    // solve's for it.
-    const UnknownFrames* frames = this->frames();
-    if (frames != nullptr) {
-      warm_start_.transform([frames](Eigen::VectorXd& v) { frames->to_frame(v); });
-    }
     inner_->set_start_product(warm_start_.improve(
         b, x,
         [&a](std::span<const Eigen::VectorXd* const> in, std::span<Eigen::VectorXd* const> out) {
           a.multiply_many(in, out);
-        },
-        [frames](Eigen::VectorXd& v) {
-          if (frames != nullptr) {
-            frames->clear_known(v);
-          }
         }));
     inner_->set_energy_floor(energy_floor());
     const SolveReport report = inner_->solve(a, b, x, offset);
@@ -377,9 +366,6 @@ class ProjectedWarmStartSolver final : public SystemSolver {
       warm_start_.remember(x);
     } else {
       warm_start_.forget();
-    }
-    if (frames != nullptr) {
-      warm_start_.transform([frames](Eigen::VectorXd& v) { frames->to_world(v); });
     }
     return report;
   }

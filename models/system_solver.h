@@ -172,29 +172,6 @@ struct SolveReport {
   bool succeeded = true;  ///< false: a factorization failed (not SPD or not finite) or NaN
 };
 
-/// The frame a solve's unknowns are in where it is not the world's: ConstraintElimination turns
-/// a sliding vertex's unknowns into a frame of its held and free directions, made anew each
-/// solve (the free directions of a plane are any two). A vector a solver keeps from one solve
-/// for the next (the warm start's past solutions) is kept in the world frame and turned into
-/// each solve's: kept in the frame it was solved in, its entries at a vertex that slides now, or
-/// did then, are coordinates along other axes, and the warm start built from it is off there.
-class UnknownFrames {
- public:
-  /// From the last solve's frame to the world's, in place.
-  virtual void to_world(Eigen::VectorXd& values) const = 0;
-  /// From the world's frame to the next solve's, in place (to_world's inverse).
-  virtual void to_frame(Eigen::VectorXd& values) const = 0;
-  /// Zeroes the coordinates the next solve knows (its exact constraints: identity rows and
-  /// columns, the known value in b).
-  virtual void clear_known(Eigen::VectorXd& values) const = 0;
-
- protected:
-  UnknownFrames() = default;
-  UnknownFrames(const UnknownFrames&) = default;
-  UnknownFrames& operator=(const UnknownFrames&) = default;
-  ~UnknownFrames() = default;
-};
-
 /// Solves A x = b for a matrix with a fixed BlockPattern whose values change every step.
 class SystemSolver {
  public:
@@ -221,22 +198,16 @@ class SystemSolver {
   /// only, and it makes no product for it. The warm start has it from the products it makes
   /// anyway (GalerkinWarmStart::improve()). Null: not known.
   void set_start_product(const Eigen::VectorXd* product) { start_product_ = product; }
-  /// The frames every later solve's unknowns are in (null: the world's); `frames` must outlive
-  /// the solver's use of it, and be made for a solve before it runs (ConstraintElimination's
-  /// eliminate()).
-  void set_frames(const UnknownFrames* frames) { frames_ = frames; }
 
  protected:
   SystemSolver() = default;
   double energy_floor() const { return energy_floor_; }
   /// The next solve's start product (set_start_product()), cleared for the ones after it.
   const Eigen::VectorXd* take_start_product() { return std::exchange(start_product_, nullptr); }
-  const UnknownFrames* frames() const { return frames_; }
 
  private:
   double energy_floor_ = 0.0;
   const Eigen::VectorXd* start_product_ = nullptr;
-  const UnknownFrames* frames_ = nullptr;
 };
 
 /// The solver `options` names; CHOLMOD's symbolic analysis of `pattern` is done here, once.

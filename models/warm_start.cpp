@@ -23,8 +23,7 @@ GalerkinWarmStart::Coefficients GalerkinWarmStart::coefficients(const Gram& gram
   return combination.allFinite() ? combination : Coefficients::Zero();
 }
 
-GalerkinWarmStart::GalerkinWarmStart(Eigen::Index size)
-    : free_(size), known_(size), guess_(size), guess_product_(size) {
+GalerkinWarmStart::GalerkinWarmStart(Eigen::Index size) : guess_(size), guess_product_(size) {
   for (Eigen::VectorXd& solution : history_) {
     solution = Eigen::VectorXd::Zero(size);
   }
@@ -40,7 +39,7 @@ void GalerkinWarmStart::remember(const Eigen::VectorXd& solution) {
 }
 
 std::size_t GalerkinWarmStart::memory_bytes() const {
-  return (2 * kBasis + 4) * static_cast<std::size_t>(guess_.size()) * sizeof(double);
+  return (2 * kBasis + 2) * static_cast<std::size_t>(guess_.size()) * sizeof(double);
 }
 
 }  // namespace softbench

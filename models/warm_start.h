@@ -38,33 +38,18 @@ class GalerkinWarmStart {
   /// for the x it leaves, the same combination of the products (valid until the next call), so
   /// the solve need not make it; null when fewer than two solutions are remembered (no
   /// products are made then).
-  ///
-  /// `clear_known(v)` zeroes the coordinates the system knows (exact constraints eliminated:
-  /// identity rows and columns, the value in b; a no-op when there are none). Only the free
-  /// coordinates are combined, and the known ones keep x's values: on those rows the energy
-  /// norm weighs a mismatch by 1 where a free row weighs it by a vertex's mass (a gram), so a
-  /// combination that must also keep them would be all but held to x where the contact
-  /// changes what is known from step to step. The system being uncoupled there, A x is the
-  /// combination of the free parts' products plus x's known part.
-  template <class MultiplyMany, class ClearKnown>
+  template <class MultiplyMany>
   const Eigen::VectorXd* improve(const Eigen::VectorXd& b,
                                  Eigen::VectorXd& x,
-                                 const MultiplyMany& multiply,
-                                 const ClearKnown& clear_known) {
+                                 const MultiplyMany& multiply) {
     if (count_ <= 1) {
       return nullptr;
     }
     const int count = count_;  // x, then the remembered ones from the second newest
-    free_ = x;
-    clear_known(free_);
-    known_ = x - free_;
     std::array<const Eigen::VectorXd*, kBasis> basis{};
     std::array<Eigen::VectorXd*, kBasis> products{};
     for (int j = 0; j < count; ++j) {
-      if (j > 0) {
-        clear_known(remembered(j));  // what was solved there is known now
-      }
-      basis[static_cast<std::size_t>(j)] = j == 0 ? &free_ : &remembered(j);
+      basis[static_cast<std::size_t>(j)] = j == 0 ? &x : &remembered(j);
       products[static_cast<std::size_t>(j)] = &products_[static_cast<std::size_t>(j)];
     }
     const auto used = static_cast<std::size_t>(count);
@@ -80,12 +65,12 @@ class GalerkinWarmStart {
         gram(j, i) = gram(i, j);
       }
     }
-    Coefficients c = coefficients(gram, projected);
+    const Coefficients c = coefficients(gram, projected);
     if (c.isZero()) {
-      c(0) = 1.0;  // keep the caller's guess
+      return &products_[0];  // keep the caller's guess
     }
-    guess_ = known_ + c(0) * free_;
-    guess_product_ = known_ + c(0) * products_[0];
+    guess_ = c(0) * x;
+    guess_product_ = c(0) * products_[0];
     for (int j = 1; j < count; ++j) {
       guess_ += c(j) * remembered(j);
       guess_product_ += c(j) * products_[static_cast<std::size_t>(j)];
@@ -96,22 +81,6 @@ class GalerkinWarmStart {
 
   /// Keeps `solution` as the newest (the oldest is dropped).
   void remember(const Eigen::VectorXd& solution);
-
-  /// improve() on a system that knows no coordinate.
-  template <class MultiplyMany>
-  const Eigen::VectorXd* improve(const Eigen::VectorXd& b,
-                                 Eigen::VectorXd& x,
-                                 const MultiplyMany& multiply) {
-    return improve(b, x, multiply, [](Eigen::VectorXd&) {});
-  }
-
-  /// Applies `change(vector)` to every remembered solution, in place (a change of frame).
-  template <class Change>
-  void transform(const Change& change) {
-    for (int j = 0; j < count_; ++j) {
-      change(remembered(j));
-    }
-  }
   /// Drops every remembered solution (made for other velocities, or before a reset).
   void forget() { count_ = 0; }
 
@@ -119,14 +88,12 @@ class GalerkinWarmStart {
 
  private:
   /// The j-th newest remembered solution (0: the newest).
-  Eigen::VectorXd& remembered(int j) {
+  const Eigen::VectorXd& remembered(int j) const {
     return history_[static_cast<std::size_t>((head_ - j + kBasis) % kBasis)];
   }
 
   std::array<Eigen::VectorXd, kBasis> history_;
   std::array<Eigen::VectorXd, kBasis> products_;  ///< A times each basis vector
-  Eigen::VectorXd free_;   ///< the caller's guess, its known coordinates zeroed
-  Eigen::VectorXd known_;  ///< the caller's guess at its known coordinates only
   Eigen::VectorXd guess_;
   Eigen::VectorXd guess_product_;  ///< A guess_
   int head_ = kBasis - 1;

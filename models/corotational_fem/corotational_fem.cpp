@@ -114,7 +114,6 @@ CorotationalFemModel::CorotationalFemModel(RenumberedMesh inner,
   pattern_ = std::make_unique<BlockPattern>(num_vertices_, edges);
   pattern_->set_parts(std::move(inner.part_offsets));
   solver_ = make_system_solver(solver_options(params_, num_vertices_), *pattern_);
-  solver_->set_frames(&elimination_);  // its warm start's vectors, in each solve's frames
 
   deformations_.resize(num_elements);
   rotations_.resize(num_elements);

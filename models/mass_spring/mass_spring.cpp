@@ -90,7 +90,6 @@ MassSpringModel::MassSpringModel(const TetMesh& mesh,
       LinearSolverOptions options;
       options.kind = LinearSolverOptions::Kind::kCholmod;
       solver_ = make_system_solver(options, *pattern_);
-      solver_->set_frames(&elimination_);  // its warm start's vectors, in each solve's frames
       cholmod_rhs_.resize(size);
     }
   }

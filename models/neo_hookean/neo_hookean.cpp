@@ -57,7 +57,6 @@ NeoHookeanModel::NeoHookeanModel(const TetMesh& mesh,
   LinearSolverOptions options;
   options.kind = LinearSolverOptions::Kind::kCholmod;
   solver_ = make_system_solver(options, *pattern_);
-  solver_->set_frames(&elimination_);  // its warm start's vectors, in each solve's frames
 
   element_energies_.resize(num_elements);
   element_gradients_.resize(num_elements);

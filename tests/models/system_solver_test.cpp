@@ -10,8 +10,6 @@
 #include "geometry/vertex_order.h"
 #include "models/block_pattern.h"
 #include "models/coarse_space.h"
-#include "models/implicit_system.h"
-#include "models/vertex_constraints.h"
 #include "models/warm_start.h"
 #include "tests/test_meshes.h"
 
@@ -418,107 +416,6 @@ TEST(GalerkinWarmStart, IsNoFartherFromTheSolutionThanTheGuessAndForgets) {
   x = guess;
   warm_start.improve(b, x, multiply);
   EXPECT_EQ(x, guess);  // nothing remembered: the guess is kept as it is
-}
-
-/// A system with exact constraints eliminated by ConstraintElimination: vertex 0 held fully,
-/// vertex 1 along `normal` only (its unknowns then in a frame of its own), the rest free.
-struct EliminatedSystem {
-  BlockSystem system;
-  std::vector<PositionConstraint> list;
-  VertexConstraints constraints;
-  ConstraintElimination elimination;
-  Eigen::VectorXd rhs;
-  Eigen::VectorXd guess;  ///< the elimination's start: the known values where known
-
-  EliminatedSystem(unsigned seed, const Eigen::Vector3d& normal)
-      : system(elastic_like_system(seed, test::box_tets(6, 4, 3), /*with_dense=*/false)),
-        constraints(system.pattern.num_vertices()),
-        rhs(random_vector(system.pattern.size(), seed + 1)),
-        guess(random_vector(system.pattern.size(), seed + 2)) {
-    list.push_back({0, Eigen::Vector3d::Zero(), kExact});
-    PositionConstraint sliding{1, Eigen::Vector3d::Zero(), kExact};
-    sliding.held = PositionConstraint::along(normal);
-    list.push_back(sliding);
-    constraints.bind(list);
-    Eigen::Matrix3Xd known = Eigen::Matrix3Xd::Zero(3, system.pattern.num_vertices());
-    known.col(0) = Eigen::Vector3d(0.1, -0.2, 0.3);
-    known.col(1) = Eigen::Vector3d(-0.3, 0.2, 0.4);
-    elimination.eliminate(system.pattern, constraints, known, rhs, guess);
-  }
-};
-
-TEST(ConstraintElimination, TurnsVectorsIntoItsFramesAndBackAndClearsWhatItKnows) {
-  const EliminatedSystem eliminated(31, Eigen::Vector3d(1.0, 2.0, 3.0));
-  const Eigen::VectorXd world = random_vector(eliminated.system.pattern.size(), 34);
-  Eigen::VectorXd v = world;
-  eliminated.elimination.to_frame(v);
-  // The sliding vertex's first coordinate is along its normal; the others are untouched.
-  EXPECT_NEAR(v(3), world.segment<3>(3).dot(Eigen::Vector3d(1.0, 2.0, 3.0).normalized()), 1e-15);
-  EXPECT_EQ(v.head(3), world.head(3));
-  EXPECT_EQ(v.tail(v.size() - 6), world.tail(world.size() - 6));
-  EXPECT_NEAR(v.segment<3>(3).norm(), world.segment<3>(3).norm(), 1e-15);
-  eliminated.elimination.to_world(v);
-  EXPECT_LT((v - world).norm(), 1e-15 * world.norm());
-
-  eliminated.elimination.clear_known(v);
-  EXPECT_EQ(v.head(4), Eigen::Vector4d::Zero());  // vertex 0 whole, vertex 1 along its normal
-  EXPECT_NE(v(4), 0.0);
-  EXPECT_EQ(v.tail(v.size() - 6), world.tail(world.size() - 6));
-}
-
-TEST(GalerkinWarmStart, CombinesTheFreeUnknownsOnlyAndKeepsTheKnownOnes) {
-  // A solution whose free part lies in the span of the guess's and the remembered vectors'
-  // free parts, while those vectors hold other values at the known unknowns (as last steps'
-  // solutions do where a contact now holds the tissue): found exactly, the known values kept.
-  const EliminatedSystem eliminated(41, Eigen::Vector3d(0.0, 1.0, 1.0));
-  const BlockPattern& pattern = eliminated.system.pattern;
-  const Eigen::Index size = pattern.size();
-  const auto multiply = [&pattern](std::span<const Eigen::VectorXd* const> in,
-                                   std::span<Eigen::VectorXd* const> out) {
-    pattern.multiply_many(in, out);
-  };
-  const auto clear_known = [&eliminated](Eigen::VectorXd& v) {
-    eliminated.elimination.clear_known(v);
-  };
-  std::vector<Eigen::VectorXd> remembered;
-  for (unsigned seed = 44; seed < 48; ++seed) {
-    remembered.push_back(
-        random_vector(size, seed));  // the last is dropped: the guess stands for it
-  }
-  const Eigen::VectorXd& guess = eliminated.guess;
-  Eigen::VectorXd free_guess = guess;
-  clear_known(free_guess);
-  Eigen::VectorXd solution = 0.4 * free_guess;
-  for (const auto& [j, weight] : {std::pair{0, 0.3}, std::pair{1, -1.2}, std::pair{2, 0.7}}) {
-    Eigen::VectorXd free_part = remembered[static_cast<std::size_t>(j)];
-    clear_known(free_part);
-    solution += weight * free_part;
-  }
-  solution += guess - free_guess;  // the known values
-  Eigen::VectorXd b(size);
-  pattern.multiply(solution, b);
-
-  for (const bool with_known : {true, false}) {
-    GalerkinWarmStart warm_start(size);
-    for (const Eigen::VectorXd& v : remembered) {
-      warm_start.remember(v);
-    }
-    Eigen::VectorXd x = guess;
-    const Eigen::VectorXd* product = with_known ? warm_start.improve(b, x, multiply, clear_known)
-                                                : warm_start.improve(b, x, multiply);
-    ASSERT_NE(product, nullptr);
-    Eigen::VectorXd ax(size);
-    pattern.multiply(x, ax);
-    EXPECT_LT((*product - ax).norm(), 1e-12 * ax.norm());
-    if (with_known) {
-      EXPECT_LT((x - solution).norm(), 1e-9 * solution.norm());
-      EXPECT_EQ(x.head(4), guess.head(4));
-    } else {
-      // Combining whole vectors, the known rows (weight 1 against a mass of 1e-3 on the free
-      // ones) hold the combination near the guess: far from the solution.
-      EXPECT_GT((x - solution).norm(), 1e-2 * solution.norm());
-    }
-  }
 }
 
 }  // namespace
