@@ -104,6 +104,26 @@
 // -> 858 / 867 with no OpenMP construct on one range, then 875 / 923 -> 909 / 1,017 with the
 // sweeps' gathers in lanes (model_ms 0.97 / 0.98 -> 0.94 / 0.89); tool forces the same to every
 // digit (force_vs_cholmod 0.0047% / 0.00093%, peaks 0.4271 / 6.337 N).
+//
+// 2026-12-03, later: where corotational_fem's press costs beyond its liver step. Per step, one
+// run: the contact is 8% of the step's time (0.08 of 1.1 ms on average), the model the rest,
+// and the model's steps while touching cost more because its solves take twice the
+// iterations: 9.2 a step against 4.3-4.8 apart (4 is the stopping rule's least, kDelay). The
+// warm start leaves an energy-norm error of about 1% of the step's velocity while touching
+// against 0.06% apart: the held corners move with the probe and their response is new each
+// step. Tried and dropped:
+// - aggregates on the coarse level (coarse_vertices 256 / 128 / 64): touching iterations 9.0 /
+//   8.7 / 8.4, no time saved;
+// - the warm start combining the free unknowns only, the known ones kept at the guess's values
+//   (an identity row weighs a mismatch a thousandfold a free row's, which holds the combination
+//   near the guess where the contact changes what is known): touching iterations 9.22 -> 8.98
+//   on liver_press (all its steps 5.93 -> 5.89), but fem_bench's pinned liver 4.49 -> 4.67 a
+//   step, the goal's own workload.
+// Then the start of a step's contact in one pass over the tissue (four before) and
+// corotational_fem's forces mapped to the mesh's numbering at the constrained vertices only,
+// once a step (at every read before, into a new matrix): the same results to the digit; the
+// time within the VM's noise this day (liver_pull touching 0.148-0.170 ms before, 0.156-0.166
+// after, three runs of each build alternated).
 #include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "harness/run/scene_mesh.h"
