@@ -110,7 +110,7 @@ class SoftBody {
   /// N (3 x #V): the force each constraint of the last step exerted on its vertex; zero at
   /// unconstrained vertices. At static equilibrium they balance the external loads. Held by the
   /// model (valid until its next non-const call): the harness reads it after every pass of a
-  /// contact step, and a copy of the liver's forces a read was 10% of the contact's work.
+  /// contact step, where a copy a read was about a tenth of liver_pull's contact work.
   virtual const Eigen::Matrix3Xd& constraint_forces() const = 0;
   /// J; NaN for a model without an elastic energy (shape matching).
   virtual double elastic_energy() const;

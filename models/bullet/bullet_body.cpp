@@ -192,7 +192,6 @@ void BulletBody::set_velocities(const Eigen::Matrix3Xd& velocities) {
 }
 
 void BulletBody::set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) {
-  forces_estimated_ = false;
   check_state(positions, velocities);
   positions_ = positions;
   btSoftBody& body = world_->body();

@@ -135,8 +135,8 @@ void CorotationalFemModel::reset() {
   positions_ = rest_positions_;
   velocities_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
   constraint_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
-  force_vertices_.clear();
-  forces_published_ = false;
+  published_forces_ = Eigen::Matrix3Xd::Zero(3, num_vertices_);
+  published_vertices_.clear();
   velocity_change_ = Eigen::VectorXd::Zero(pattern_->size());
   solver_->forget();
   renumbering_.publish(positions_, velocities_);
@@ -195,12 +195,12 @@ std::size_t CorotationalFemModel::memory_bytes() const {
          + bytes_of_elements(vertex_incidences_) + bytes_of_elements(edge_offsets_)
          + bytes_of_elements(edge_incidences_) + renumbering_.memory_bytes() + bytes_of(positions_)
          + bytes_of(velocities_) + bytes_of(constraint_forces_) + bytes_of(published_forces_)
-         + bytes_of_elements(force_vertices_) + bytes_of_elements(published_vertices_)
-         + bytes_of_elements(quaternions_) + bytes_of_elements(deformations_)
-         + bytes_of_elements(rotations_) + bytes_of_elements(element_rhs_)
-         + bytes_of_elements(element_gradients_) + constraints_.memory_bytes()
-         + pattern_->memory_bytes() + solver_->memory_bytes() + elimination_.memory_bytes()
-         + bytes_of(known_changes_) + bytes_of(rhs_) + bytes_of(velocity_change_);
+         + bytes_of_elements(published_vertices_) + bytes_of_elements(quaternions_)
+         + bytes_of_elements(deformations_) + bytes_of_elements(rotations_)
+         + bytes_of_elements(element_rhs_) + bytes_of_elements(element_gradients_)
+         + constraints_.memory_bytes() + pattern_->memory_bytes() + solver_->memory_bytes()
+         + elimination_.memory_bytes() + bytes_of(known_changes_) + bytes_of(rhs_)
+         + bytes_of(velocity_change_);
 }
 
 Eigen::Matrix3Xd CorotationalFemModel::elastic_forces() {

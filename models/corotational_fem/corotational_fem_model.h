@@ -106,8 +106,8 @@ class CorotationalFemModel final : public SoftBody {
   /// rotations' warm starts depend on the positions only and are kept.
   void set_velocities(const Eigen::Matrix3Xd& velocities) override;
   void set_state(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities) override;
-  /// In the mesh's numbering, mapped from the model's at the first call after a step.
-  const Eigen::Matrix3Xd& constraint_forces() const override;
+  /// In the mesh's numbering (published by each step).
+  const Eigen::Matrix3Xd& constraint_forces() const override { return published_forces_; }
   /// At the current positions, with the exact polar rotation (SVD) whatever `rotation` is, so
   /// it is a function of the positions alone.
   double elastic_energy() const override;
@@ -206,15 +206,11 @@ class CorotationalFemModel final : public SoftBody {
   // State.
   Eigen::Matrix3Xd positions_;
   Eigen::Matrix3Xd velocities_;
-  Eigen::Matrix3Xd constraint_forces_;         ///< in the model's numbering
-  mutable Eigen::Matrix3Xd published_forces_;  ///< constraint_forces(): the mesh's numbering
-  mutable bool forces_published_ = false;
-  /// The last step's constrained vertices (the model's numbering): constraint_forces_ is zero
-  /// elsewhere.
-  std::vector<int> force_vertices_;
-  mutable std::vector<int>
-      published_vertices_;  ///< force_vertices_ when last published      ///< whether
-                            ///< published_forces_ are constraint_forces_
+  Eigen::Matrix3Xd constraint_forces_;  ///< in the model's numbering
+  Eigen::Matrix3Xd published_forces_;   ///< the same in the mesh's (constraint_forces())
+  /// The columns of published_forces_ the last step wrote (its constrained vertices, in the
+  /// mesh's numbering): the forces are zero elsewhere.
+  std::vector<int> published_vertices_;
   std::vector<Eigen::Quaterniond> quaternions_;  ///< warm starts (rotation "quaternion")
 
   // Per-step work arrays, sized once.

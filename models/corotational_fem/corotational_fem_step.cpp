@@ -123,30 +123,17 @@ void CorotationalFemModel::eliminate_exact_constraints(double dt) {
 void CorotationalFemModel::compute_reactions(double dt) {
   implicit_reactions(elimination_, *pattern_, constraints_, positions_, velocity_change_, dt,
                      constraint_forces_);
-  force_vertices_.assign(constraints_.vertices().begin(), constraints_.vertices().end());
-  forces_published_ = false;
-}
-
-// Only the columns of constrained vertices, this step's and the last published step's (to
-// zero them): a contact step reads the forces after each of its passes, and mapping all of the
-// liver's columns took a few of the contact's 150 microseconds a touching step.
-const Eigen::Matrix3Xd& CorotationalFemModel::constraint_forces() const {
-  if (forces_published_) {
-    return published_forces_;
+  // Published at the constrained vertices only (zero elsewhere): mapping all of the liver's
+  // columns at every read took a few of the contact's 150 microseconds a touching step.
+  for (const int outer : published_vertices_) {
+    published_forces_.col(outer).setZero();
   }
-  if (published_forces_.cols() != num_vertices_) {
-    published_forces_.setZero(3, num_vertices_);
-    published_vertices_.clear();
+  published_vertices_.clear();
+  for (const int v : constraints_.vertices()) {
+    const int outer = renumbering_.to_outer(v);
+    published_forces_.col(outer) = constraint_forces_.col(v);
+    published_vertices_.push_back(outer);  // allocates only when the constrained set grows
   }
-  for (const int v : published_vertices_) {
-    published_forces_.col(renumbering_.to_outer(v)).setZero();
-  }
-  for (const int v : force_vertices_) {
-    published_forces_.col(renumbering_.to_outer(v)) = constraint_forces_.col(v);
-  }
-  published_vertices_ = force_vertices_;
-  forces_published_ = true;
-  return published_forces_;
 }
 
 StepStats CorotationalFemModel::step_timed(double dt,
