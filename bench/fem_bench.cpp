@@ -174,6 +174,21 @@
 // even and odd neighbours apart (two chains) gained nothing further; nor did the SSOR blocks'
 // 3x3 products in lanes.
 //
+// 2026-12-07: where liver_x16's step went (one thread, timers around the solver's parts): E's
+// load and factorisation 7.7 ms a solve, the coarse solves 0.9 ms, the sweeps the rest of a
+// 45.6 ms solve at 8.6 iterations, 4.3 ms an iteration, 300 ns a vertex against the liver's
+// 120: its matrix (about 16 MB, read once an iteration with A W's blocks, another 5 MB) is
+// streamed from memory where the liver's (1.3 MB) stays in the cache. The sweeps then read a
+// single-precision copy of the values from 2048 vertices (sweep_precision; the variants
+// cg+double_sweeps and cg+single_sweeps at every size). One thread, the two variants interleaved
+// in one process, medians of 5, ms a step (the solve), iterations, cholmod_match:
+//                 double                         single
+//   liver         0.970 (0.552)  4.50 it 0.0132% 0.963 (0.539)  4.49 it 0.0132%
+//   liver_x4      6.40  (4.16)   6.75 it         6.28  (4.11)   6.61 it 0.00092% both
+//   liver_x16     55.1  (42.4)   8.56 it         37.4  (26.4)   8.65 it 0.00204% both
+// (the runs' iteration counts differ as their lengths do). The default's figure on the liver
+// is the double one: below 2048 vertices nothing changed.
+//
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
 // under contact; the rule costs 23% on the liver and buys the contact force (within 0.06% of
@@ -200,6 +215,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace softbench {
@@ -243,6 +259,13 @@ std::vector<Variant> variants() {
   Params whole_body;
   whole_body.coarse_vertices = std::numeric_limits<int>::max();
   result.push_back({"cg+coarse_whole_body", whole_body});
+  // The sweeps' matrix in either precision at every size (the default picks by size).
+  for (const auto& [label, precision] : {std::pair{"double", Params::SweepPrecision::kDouble},
+                                         std::pair{"single", Params::SweepPrecision::kSingle}}) {
+    Params params;
+    params.sweep_precision = precision;
+    result.push_back({std::string("cg+") + label + "_sweeps", params});
+  }
   Params jacobi;
   jacobi.preconditioner = Params::Preconditioner::kJacobi;
   result.push_back({"cg+jacobi", jacobi});

@@ -88,6 +88,13 @@ class BlockPattern {
   /// into out[3] (y: 3 values per vertex). The two halves of a Gauss-Seidel sweep's row (the
   /// SSOR solver's) and of quadratic_form().
   [[gnu::always_inline]] void neighbour_sum(int c, bool lower, const double* y, double* out) const {
+    neighbour_sum(c, lower, matrix_.valuePtr(), y, out);
+  }
+  /// The same from `values`, an array laid out as the matrix's values: they themselves, or a
+  /// copy in single precision (the SSOR solver's, LinearSolverOptions::single_precision_sweeps).
+  template <class Value>
+  [[gnu::always_inline]] void neighbour_sum(
+      int c, bool lower, const Value* values, const double* y, double* out) const {
     // Row c of the symmetric matrix is column c: block (c, n) is the transpose of the strip of n
     // in c's columns, so (A_cn y_n)_k = column k's strip of n dotted with y_n.
     const std::span<const int> row = neighbours(c);
@@ -95,9 +102,9 @@ class BlockPattern {
     const int own = own_slot(c);
     const int first = lower ? 0 : own + 1;
     const int last = lower ? own : degree;
-    const double* column0 = matrix_.valuePtr() + column_values_begin(c);
-    const double* column1 = column0 + 3 * degree;
-    const double* column2 = column1 + 3 * degree;
+    const Value* column0 = values + column_values_begin(c);
+    const Value* column1 = column0 + 3 * degree;
+    const Value* column2 = column1 + 3 * degree;
     // Nine independent sums (a row of the block times a component of y_n each), as three
     // vectors: lane k of sum i adds column i's strip entry k times y_n's component k, so each
     // strip is one load of four lanes (the fourth is the next value in the array, times 0: a

@@ -89,6 +89,29 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     report.residual = std::numeric_limits<double>::quiet_NaN();
     return report;
   }
+  const float* single = nullptr;
+  if (options_.single_precision_sweeps) {
+    const double* values = a.matrix().valuePtr();
+    single_values_.resize(static_cast<std::size_t>(a.matrix().nonZeros()));
+    float* copy = single_values_.data();
+    const int n_vertices = num_vertices_;
+    over_ranges(a.part_offsets(), [&](int first, int last) {
+      const int end = last == n_vertices ? static_cast<int>(a.matrix().nonZeros())
+                                         : a.column_values_begin(last);
+      for (int i = a.column_values_begin(first); i < end; ++i) {
+        copy[i] = static_cast<float>(values[i]);
+      }
+      return RangeSums{};
+    });
+    single = copy;
+  }
+  const auto gather = [&a, single](int c, bool lower, const double* y, double* out) {
+    if (single != nullptr) {
+      a.neighbour_sum(c, lower, single, y, out);
+    } else {
+      a.neighbour_sum(c, lower, y, out);
+    }
+  };
   EnergyErrorEstimate estimate(
       reference_energy(a, x, offset, energy_floor(), direction_, chunk_sums_));
   const double* ax = start_product(a, x, known_product, forward_).data();
@@ -125,9 +148,9 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
 
   // Row c of a forward sweep: out_c = D_c^-1 (in_c - sum over n < c of A_cn out_n) (`in` may be
   // `out`: each row reads its own entry before writing it).
-  const auto forward_row = [&a, inverse](int c, const double* in, double* out) {
+  const auto forward_row = [&gather, inverse](int c, const double* in, double* out) {
     double lower[3];
-    a.neighbour_sum(c, /*lower=*/true, out, lower);
+    gather(c, /*lower=*/true, out, lower);
     const double rest[3] = {in[3 * c] - lower[0], in[3 * c + 1] - lower[1],
                             in[3 * c + 2] - lower[2]};
     block_multiply(inverse + 9 * c, rest, out + 3 * c);
@@ -186,7 +209,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
       double* slice = coarse_.restriction_slice(ranges, first, last);
       for (int c = last - 1; c >= first; --c) {
         double upper[3];
-        a.neighbour_sum(c, /*lower=*/false, s, upper);
+        gather(c, /*lower=*/false, s, upper);
         const double rest[3] = {z[3 * c] - upper[0], z[3 * c + 1] - upper[1],
                                 z[3 * c + 2] - upper[2]};
         block_multiply(inverse + 9 * c, rest, s + 3 * c);
@@ -253,7 +276,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
                                 RangeSums part;
                                 for (int c = first; c < last; ++c) {
                                   double lower[3];
-                                  a.neighbour_sum(c, /*lower=*/true, r, lower);
+                                  gather(c, /*lower=*/true, r, lower);
                                   double own[3];
                                   block_multiply(d + 9 * c, r + 3 * c, own);
                                   for (int k = 0; k < 3; ++k) {
@@ -269,7 +292,8 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
 
 std::size_t SsorConjugateGradientSolver::memory_bytes() const {
   return (diagonal_.capacity() + inverse_.capacity() + chunk_sums_.capacity()) * sizeof(double)
-         + coarse_.memory_bytes() + 7 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
+         + single_values_.capacity() * sizeof(float) + coarse_.memory_bytes()
+         + 7 * static_cast<std::size_t>(residual_.size()) * sizeof(double);
 }
 
 }  // namespace softbench

@@ -48,6 +48,12 @@ namespace softbench {
 /// from the forward sweep; x += alpha t directly. Per iteration: the two sweeps as before (the
 /// backward one also sums (A W)^T s), a pass for t and U t over U W's blocks, and a coarse
 /// solve.
+///
+/// With LinearSolverOptions::single_precision_sweeps the sweeps read a copy of the matrix's
+/// values rounded to single precision (made at the solve's start), while the diagonal blocks,
+/// the start's residual and the coarse level keep the doubles: half the bytes an iteration
+/// where the matrix is streamed from memory. CG then solves the rounded matrix for the true
+/// residual of the start, so the rounding changes the correction only, by about 6e-8 of it.
 class SsorConjugateGradientSolver final : public SystemSolver {
  public:
   SsorConjugateGradientSolver(const LinearSolverOptions& options, const BlockPattern& pattern);
@@ -76,6 +82,8 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   Eigen::VectorXd direction_upper_;  ///< U t
   Eigen::VectorXd forward_;          ///< y = (D + L)^-1 U t; the start product's scratch
   std::vector<double> chunk_sums_;   ///< the reference energy's per-chunk parts
+  /// The matrix's values in single precision (LinearSolverOptions::single_precision_sweeps).
+  std::vector<float> single_values_;
 };
 
 }  // namespace softbench

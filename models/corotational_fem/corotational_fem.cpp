@@ -39,6 +39,18 @@ LinearSolverOptions solver_options(const CorotationalFemParams& params, int num_
   if (options.coarse_vertices == 0 && num_vertices >= CorotationalFemModel::kCoarseFromVertices) {
     options.coarse_vertices = CorotationalFemModel::kAggregateVertices;
   }
+  switch (params.sweep_precision) {
+    case CorotationalFemParams::SweepPrecision::kAuto:
+      options.single_precision_sweeps =
+          num_vertices >= CorotationalFemModel::kSingleSweepsFromVertices;
+      break;
+    case CorotationalFemParams::SweepPrecision::kDouble:
+      options.single_precision_sweeps = false;
+      break;
+    case CorotationalFemParams::SweepPrecision::kSingle:
+      options.single_precision_sweeps = true;
+      break;
+  }
   options.projected_warm_start = params.projected_warm_start;
   options.tolerance = params.cg_tolerance;
   options.max_iterations = params.cg_max_iterations;

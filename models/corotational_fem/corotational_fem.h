@@ -101,6 +101,12 @@ struct CorotationalFemParams {
   /// kCoarseFromVertices). Smaller aggregates: fewer iterations on large meshes, a larger coarse
   /// system to factorise each step.
   int coarse_vertices = 0;
+  enum class SweepPrecision { kAuto, kDouble, kSingle };
+  /// "ssor" only: the precision of the matrix the sweeps read (LinearSolverOptions::
+  /// single_precision_sweeps). "single" halves the bytes an iteration, which is what bounds the
+  /// sweeps once the matrix outgrows the cache; "auto": single from CorotationalFemModel::
+  /// kSingleSweepsFromVertices, where it was measured faster.
+  SweepPrecision sweep_precision = SweepPrecision::kAuto;
   /// Iterative solvers: start each solve from the best combination (in the energy norm) of the
   /// last step's velocity change and the three before it (models/warm_start.h; their four
   /// products in one pass over the matrix a step) instead of the last one alone.

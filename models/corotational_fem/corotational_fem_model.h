@@ -77,6 +77,10 @@ class CorotationalFemModel final : public SoftBody {
   /// 0.041% -> 0.0020%).
   static constexpr int kCoarseFromVertices = 2048;
   static constexpr int kAggregateVertices = 64;
+  /// The SSOR sweeps read the matrix in single precision from this many vertices
+  /// (sweep_precision "auto"): measured with fem_bench's cg+single_sweeps and cg+double_sweeps
+  /// variants (see there).
+  static constexpr int kSingleSweepsFromVertices = 2048;
   /// Elements side by side in the element kernels, one per vector lane.
   static constexpr int kElementLanes = 8;
   /// A 3x3 matrix of each lane: column-major entries, m[i + 3 j][lane] is entry (i, j).

@@ -119,7 +119,7 @@ TEST_F(RunnerTest, RejectsABadBlockOfAModelNotRunBeforeAnyModelRuns) {
                     "here: cg_max_iterations, cg_tolerance, coarse_vertices, formulation, preconditioner, "
                     "projected_warm_start, rayleigh_mass, rayleigh_stiffness, "
                     "refresh_iterations, rotation, rotation_iterations, rotation_tolerance, "
-                    "solver)");
+                    "solver, sweep_precision)");
   }
   EXPECT_EQ(progress.str(), "");  // mass_spring never ran
 }

@@ -341,6 +341,52 @@ TEST(SystemSolver, SsorWithAggregatesMeetsTheToleranceAndLeavesNoResidualOnThem)
   EXPECT_LT((w.transpose() * residual).norm(), 1e-12 * (w.transpose() * b).norm());
 }
 
+TEST(SystemSolver, SsorInSinglePrecisionMeetsTheToleranceGiveOrTakeTheRounding) {
+  // The sweeps read the blocks off the diagonal rounded to single precision (A'), while the
+  // diagonal blocks, the start's residual and the coarse level keep A's doubles: CG corrects
+  // the start (after the coarse level) by A'^-1 of A's residual, so the rounding touches only
+  // that correction. The answer must be within the tolerance of A^-1 b, give or take at most
+  // the rounding's whole effect on the answer, |A^-1 b - A'^-1 b|_A (5e-6 of it here, five times
+  // the tolerance: the test would see a solve of A' alone), and take the iterations A's solve
+  // takes, one more or fewer at most.
+  const BlockSystem system = local_elastic_system(12, 8, 6, 24);
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 28);
+  LinearSolverOptions options = cg_options(Preconditioner::kSsor, 1e-6);
+  options.coarse_vertices = 32;
+  SolveReport in_double;
+  const Eigen::VectorXd x_double = [&] {
+    const auto solver = make_system_solver(options, system.pattern);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+    in_double = solver->solve(system.pattern, b, x, nullptr);
+    return x;
+  }();
+  options.single_precision_sweeps = true;
+  const auto solver = make_system_solver(options, system.pattern);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+  const SolveReport in_single = solver->solve(system.pattern, b, x, nullptr);
+
+  Eigen::MatrixXd rounded = system.dense;
+  for (Eigen::Index j = 0; j < rounded.cols(); ++j) {
+    for (Eigen::Index i = 0; i < rounded.rows(); ++i) {
+      if (i / 3 != j / 3) {
+        rounded(i, j) = static_cast<float>(rounded(i, j));
+      }
+    }
+  }
+  const Eigen::VectorXd exact = system.dense.ldlt().solve(b);
+  const double scale = energy_norm(system.dense, exact);
+  const double rounding = energy_norm(system.dense, exact - rounded.ldlt().solve(b));
+  const double error = energy_norm(system.dense, x - exact);
+  SCOPED_TRACE(testing::Message() << "error " << error / scale << ", the rounding's effect "
+                                  << rounding / scale << "; iterations " << in_double.iterations
+                                  << " / " << in_single.iterations);
+  EXPECT_TRUE(in_single.converged);
+  EXPECT_GT(rounding, 2.0 * options.tolerance * scale);
+  EXPECT_LT(error, 10.0 * options.tolerance * scale + rounding);
+  EXPECT_NE(x, x_double);  // the single-precision copy is what the sweeps read
+  EXPECT_LE(std::abs(in_single.iterations - in_double.iterations), 1);
+}
+
 TEST(SystemSolver, SsorWithAggregatesNeedsFewerIterationsAsTheMeshIsRefined) {
   // The same box at two resolutions (8x the vertices): the sweeps alone need more iterations on
   // the fine one (the smooth error they leave grows with the mesh: 34 -> 58 iterations when
