@@ -3,6 +3,8 @@
 
 #include "models/blas_threads.h"
 
+#include <omp.h>
+
 #include <cstring>
 
 namespace softbench {
@@ -26,6 +28,24 @@ cholmod_sparse view_of(const Eigen::SparseMatrix<double>& a) {
   return view;
 }
 
+/// CHOLMOD's own OpenMP regions run on the calling thread while this lives. Debian's CHOLMOD
+/// clears and assembles a large supernode in a parallel region with a fixed thread count of its
+/// own (four), which no omp_set_num_threads() bounds: on the 2-core machine each of the coarse
+/// level's factorisations on liver_x16 (684 unknowns, one dense supernode) woke three more
+/// threads than the cores, on one thread too, and the step waited on them (futex waits 8% of
+/// its time, the extra threads 5% of its CPU). The models' loops decide the threads; a region
+/// nested in none is serial when no level may be active.
+class SerialOpenMp {
+ public:
+  SerialOpenMp() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+  ~SerialOpenMp() { omp_set_max_active_levels(levels_); }
+  SerialOpenMp(const SerialOpenMp&) = delete;
+  SerialOpenMp& operator=(const SerialOpenMp&) = delete;
+
+ private:
+  int levels_;
+};
+
 }  // namespace
 
 CholmodFactor::CholmodFactor(const Eigen::SparseMatrix<double>& pattern,
@@ -41,6 +61,7 @@ CholmodFactor::CholmodFactor(const Eigen::SparseMatrix<double>& pattern,
     common_.nmethods = CHOLMOD_MAXMETHODS;  // every ordering CHOLMOD has; the sparsest L wins
   }
   cholmod_sparse view = view_of(pattern);
+  const SerialOpenMp serial;
   factor_ = cholmod_analyze(&view, &common_);
 }
 
@@ -57,6 +78,7 @@ bool CholmodFactor::factorize(const Eigen::SparseMatrix<double>& a) {
     return false;
   }
   cholmod_sparse view = view_of(a);
+  const SerialOpenMp serial;
   const int ok = cholmod_factorize(&view, factor_, &common_);
   return ok != 0 && common_.status == CHOLMOD_OK && factor_->minor == factor_->n;
 }
@@ -74,6 +96,7 @@ void CholmodFactor::solve(const double* b, int columns, double* x) {
   rhs.x = const_cast<double*>(b);  // read only
   rhs.xtype = CHOLMOD_REAL;
   rhs.dtype = CHOLMOD_DOUBLE;
+  const SerialOpenMp serial;
   cholmod_solve2(CHOLMOD_A, factor_, &rhs, nullptr, &solution_, nullptr, &workspace_y_,
                  &workspace_e_, &common_);
   std::memcpy(x, solution_->x, rhs.nzmax * sizeof(double));
