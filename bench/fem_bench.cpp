@@ -189,6 +189,26 @@
 // (the runs' iteration counts differ as their lengths do). The default's figure on the liver
 // is the double one: below 2048 vertices nothing changed.
 //
+// 2026-12-07, later, the same VM, timers around the solve's parts again (one thread, liver_x16,
+// ms a solve): the 7.7 ms above were mostly waits. Debian's CHOLMOD factorises a large supernode
+// (E there: 684 unknowns, one supernode) with OpenMP regions of four threads of its own, which
+// no omp_set_num_threads() bounds: three threads beyond the caller's on the 2-core machine, at
+// every factorisation, one thread or two (perf: futex waits 8% of the step's samples, the extra
+// threads' spinning 5% of its CPU; the benchmark's real time 1-2 ms above its thread CPU time).
+// CholmodFactor now runs CHOLMOD with no OpenMP level active. After: E's factorisation 1.33,
+// its blocks 2.2, the diagonal blocks 1.35, the single-precision copy 0.83, the start 2.2, then
+// an iteration 0.9 (backward sweep) + 0.6 (forward) + 0.3 (t, U t) + 0.09 (coarse solve); real
+// time = CPU time. (Fusing the diagonal, the copy and E's blocks into one pass over the matrix
+// saved nothing measurable: not kept.)
+// And the two parts the large meshes are cut into for the threads now hold equal work (a
+// vertex's neighbours and itself, the blocks a sweep reads), where they held equal vertex
+// counts: liver_x16's second part had 25% more blocks than its first, so the first's thread
+// waited at every sweep (the separator, swept by one thread, 8% of the vertices either way).
+// Both cuttings in one process, 8-step batches alternated, medians of 50 (three runs): two
+// threads 0.967-0.971x the time at 6.70 -> 6.74 iterations; one thread 0.98-0.99x; liver_x4
+// (4091 vertices) 0.98-1.00x. cholmod_match liver_x4 0.00092% -> 0.00055%, liver_x16 0.00204% ->
+// 0.00246% (the sweeps' order changed with the numbering).
+//
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
 // under contact; the rule costs 23% on the liver and buys the contact force (within 0.06% of
