@@ -190,7 +190,7 @@
 // is the double one: below 2048 vertices nothing changed.
 //
 // 2026-12-07, later, the same VM, timers around the solve's parts again (one thread, liver_x16,
-// ms a solve): the 7.7 ms above were mostly waits. Debian's CHOLMOD factorises a large supernode
+// ms a solve): the 7.7 ms above held waits. Debian's CHOLMOD factorises a large supernode
 // (E there: 684 unknowns, one supernode) with OpenMP regions of four threads of its own, which
 // no omp_set_num_threads() bounds: three threads beyond the caller's on the 2-core machine, at
 // every factorisation, one thread or two (perf: futex waits 8% of the step's samples, the extra
