@@ -206,6 +206,7 @@ class MergeTest(Fixture):
         for name in EXECUTABLES:
             arguments = self.arguments_of(name)
             self.assertIn("--benchmark_repetitions=5", arguments)
+            self.assertIn("--benchmark_enable_random_interleaving=true", arguments)
             self.assertIn("--benchmark_display_aggregates_only=true", arguments)
             self.assertIn("--benchmark_out_format=json", arguments)
             self.assertTrue(any(a.startswith("--benchmark_out=") for a in arguments))
@@ -228,6 +229,7 @@ class MergeTest(Fixture):
         self.assertEqual(result.returncode, 0, result.stderr)
         arguments = self.arguments_of("beta_bench")
         self.assertIn("--benchmark_repetitions=1", arguments)
+        self.assertNotIn("--benchmark_enable_random_interleaving=true", arguments)  # nothing to mix
         self.assertIn("--benchmark_min_time=0.05", arguments)
         self.assertTrue(any(a.startswith("--benchmark_filter=^BM_Step/") for a in arguments))
         os.unlink(os.path.join(self.log, "beta_bench.args"))
