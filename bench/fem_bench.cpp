@@ -208,6 +208,10 @@
 // threads 0.967-0.971x the time at 6.70 -> 6.74 iterations; one thread 0.98-0.99x; liver_x4
 // (4091 vertices) 0.98-1.00x. cholmod_match liver_x4 0.00092% -> 0.00055%, liver_x16 0.00204% ->
 // 0.00246% (the sweeps' order changed with the numbering).
+// Then E's factorisation, the one serial piece of a solve's start, runs on one thread while the
+// others load the diagonal blocks and the single-precision copy (it joins them when done): two
+// threads on liver_x16, the two builds alternated six times, 60 steps each, median step 29.5 ->
+// 27.4 ms (solve 21.3 -> 19.8) on a busy VM; one thread and every result the same to the bit.
 //
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force

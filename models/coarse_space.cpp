@@ -152,6 +152,11 @@ CoarseSpace::CoarseSpace(const BlockPattern& pattern, std::vector<int> aggregate
 CoarseSpace::~CoarseSpace() = default;
 
 bool CoarseSpace::load(const BlockPattern& a) {
+  load_blocks(a);
+  return finish_load();
+}
+
+void CoarseSpace::load_blocks(const BlockPattern& a) {
   over_ranges(a.part_offsets(), [&](int first, int last) {
     for (int v = first; v < last; ++v) {
       const auto degree = static_cast<int>(a.neighbours(v).size());
@@ -193,6 +198,9 @@ bool CoarseSpace::load(const BlockPattern& a) {
     }
     return RangeSums{};
   });
+}
+
+bool CoarseSpace::finish_load() {
   // E's block (g, h) sums A W's blocks (v, h) over the vertices v of g.
   double* values = coarse_.valuePtr();
   std::fill(values, values + coarse_.nonZeros(), 0.0);

@@ -53,6 +53,11 @@ class CoarseSpace {
   /// A W, U W and E from the matrix's values (its vertex ranges side by side); false if E is not
   /// positive definite (a singular or non-finite system).
   bool load(const BlockPattern& a);
+  /// load() in two parts, for a caller that overlaps E's factorisation with work of its own:
+  /// load_blocks() (A W's and U W's blocks, the ranges side by side), then finish_load() (E
+  /// from them, factorised, on the calling thread; false as load()).
+  void load_blocks(const BlockPattern& a);
+  bool finish_load();
 
   /// coarse() = W^T y, summed over `ranges` side by side (over_ranges()) and then in the ranges'
   /// order: the same at any thread count.

@@ -26,6 +26,15 @@ struct RangeSums {
   }
 };
 
+/// Whether over_ranges() runs these ranges side by side: two or more of them have vertices.
+inline bool side_by_side(std::span<const int> offsets) {
+  int filled = 0;
+  for (std::size_t k = 0; k + 1 < offsets.size(); ++k) {
+    filled += offsets[k + 1] > offsets[k] ? 1 : 0;
+  }
+  return filled > 1;
+}
+
 /// body(first, last) over the vertex ranges [offsets[k], offsets[k + 1]), side by side (an
 /// OpenMP thread each) when two or more have vertices, what each returns (a value-initialised
 /// type with +=, RangeSums for most loops) added in the ranges' order: the same whatever the
@@ -38,16 +47,12 @@ auto over_ranges(std::span<const int> offsets, const Body& body) {
   if (ranges > kMaxRanges) {
     throw std::invalid_argument("over_ranges: more than kMaxRanges ranges");
   }
-  int filled = 0;
-  for (int k = 0; k < ranges; ++k) {
-    filled += offsets[static_cast<std::size_t>(k) + 1] > offsets[static_cast<std::size_t>(k)];
-  }
   std::array<Sums, kMaxRanges> sums{};
   const auto run = [&](int k) {
     sums[static_cast<std::size_t>(k)] =
         body(offsets[static_cast<std::size_t>(k)], offsets[static_cast<std::size_t>(k) + 1]);
   };
-  if (filled > 1) {
+  if (side_by_side(offsets)) {
     // Dynamic: the ranges differ in size (a sweep's separator is small), and whichever thread
     // is free takes the next.
 #pragma omp parallel for schedule(dynamic, 1)

@@ -2,9 +2,11 @@
 #include "models/ssor_solver.h"
 
 #include "models/eisenstat_cg.h"
+#include "models/team_loop.h"
 
 #include <Eigen/LU>
 
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -48,28 +50,45 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
       chunk_sums_(static_cast<std::size_t>(pattern.num_chunks())) {
 }
 
-bool SsorConjugateGradientSolver::load_diagonal(const BlockPattern& a) {
-  return over_ranges(a.part_offsets(),
-                     [&](int first, int last) {
-                       RangeSums singular;
-                       for (int c = first; c < last; ++c) {
-                         const Eigen::Matrix3d block = a.get(a.vertex_block(c));
-                         Eigen::Matrix3d inverse;
-                         bool invertible = false;
-                         block.computeInverseWithCheck(inverse, invertible);
-                         if (!invertible || !inverse.allFinite()) {
-                           singular.first = 1.0;
-                           return singular;
-                         }
-                         Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(diagonal_.data()
-                                                                                  + 9 * c) = block;
-                         Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
-                             inverse_.data() + 9 * c) = inverse;
-                       }
-                       return singular;
-                     })
-             .first
-         == 0.0;
+bool SsorConjugateGradientSolver::load(const BlockPattern& a) {
+  coarse_.load_blocks(a);
+  const bool single = options_.single_precision_sweeps;
+  if (single) {
+    single_values_.resize(static_cast<std::size_t>(a.matrix().nonZeros()));
+  }
+  const double* values = a.matrix().valuePtr();
+  float* copy = single_values_.data();
+  const bool threaded = side_by_side(a.part_offsets());  // where over_ranges() uses threads
+  bool factorised = false;
+  std::atomic<bool> singular{false};
+  maybe_parallel(threaded, [&] {
+  // One thread factorises E (CHOLMOD on one thread: 1.3 ms on liver_x16) while the others
+  // start on the vertices, and joins them when it is done.
+#pragma omp single nowait
+    factorised = coarse_.finish_load();
+    team_blocks(threaded, num_vertices_, kVerticesPerBlock, [&](int first, int last) {
+      for (int c = first; c < last; ++c) {
+        const Eigen::Matrix3d block = a.get(a.vertex_block(c));
+        Eigen::Matrix3d inverse;
+        bool invertible = false;
+        block.computeInverseWithCheck(inverse, invertible);
+        if (!invertible || !inverse.allFinite()) {
+          singular.store(true, std::memory_order_relaxed);
+          return;
+        }
+        using RowMajor = Eigen::Matrix<double, 3, 3, Eigen::RowMajor>;
+        Eigen::Map<RowMajor>(diagonal_.data() + 9 * c) = block;
+        Eigen::Map<RowMajor>(inverse_.data() + 9 * c) = inverse;
+      }
+      if (single) {
+        // Vertex c's columns end where c + 1's begin (the nonzero count after the last vertex).
+        for (int i = a.column_values_begin(first); i < a.column_values_begin(last); ++i) {
+          copy[i] = static_cast<float>(values[i]);
+        }
+      }
+    });
+  });
+  return factorised && !singular.load(std::memory_order_relaxed);
 }
 
 SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
@@ -83,28 +102,13 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     x.setZero();
     return report;
   }
-  if (!load_diagonal(a) || !coarse_.load(a)) {
+  if (!load(a)) {
     x.setConstant(std::numeric_limits<double>::quiet_NaN());
     report.succeeded = false;
     report.residual = std::numeric_limits<double>::quiet_NaN();
     return report;
   }
-  const float* single = nullptr;
-  if (options_.single_precision_sweeps) {
-    const double* values = a.matrix().valuePtr();
-    single_values_.resize(static_cast<std::size_t>(a.matrix().nonZeros()));
-    float* copy = single_values_.data();
-    const int n_vertices = num_vertices_;
-    over_ranges(a.part_offsets(), [&](int first, int last) {
-      const int end = last == n_vertices ? static_cast<int>(a.matrix().nonZeros())
-                                         : a.column_values_begin(last);
-      for (int i = a.column_values_begin(first); i < end; ++i) {
-        copy[i] = static_cast<float>(values[i]);
-      }
-      return RangeSums{};
-    });
-    single = copy;
-  }
+  const float* single = options_.single_precision_sweeps ? single_values_.data() : nullptr;
   const auto gather = [&a, single](int c, bool lower, const double* y, double* out) {
     if (single != nullptr) {
       a.neighbour_sum(c, lower, single, y, out);

@@ -65,8 +65,13 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   std::size_t memory_bytes() const override;
 
  private:
-  /// D_c and D_c^-1 of every vertex; false if a diagonal block is singular or not finite.
-  bool load_diagonal(const BlockPattern& a);
+  /// What a solve needs of the matrix before it iterates: the coarse level (A W, U W, E
+  /// factorised), D_c and D_c^-1 of every vertex, and the sweeps' single-precision copy when
+  /// they read one. On the threads, E's factorisation (serial) runs beside the vertices' part.
+  /// False if a diagonal block is singular or not finite, or E is not positive definite.
+  bool load(const BlockPattern& a);
+  /// Vertices a thread takes at a time in load()'s loop.
+  static constexpr int kVerticesPerBlock = 256;
 
   LinearSolverOptions options_;
   int num_vertices_ = 0;
