@@ -211,7 +211,9 @@
 // Then E's factorisation, the one serial piece of a solve's start, runs on one thread while the
 // others load the diagonal blocks and the single-precision copy (it joins them when done): two
 // threads on liver_x16, the two builds alternated six times, 60 steps each, median step 29.5 ->
-// 27.4 ms (solve 21.3 -> 19.8) on a busy VM; one thread and every result the same to the bit.
+// 27.4 ms (solve 21.3 -> 19.8) on a busy VM; ten more alternations in quieter minutes, 22.6 ->
+// 21.5 ms, the pairs' ratios 0.83-1.28 (median 0.95), the fastest runs 19.3 -> 19.1: a gain of
+// a few percent, at the edge of what this VM resolves. Every result the same to the bit.
 //
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
