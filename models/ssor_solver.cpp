@@ -36,6 +36,8 @@ constexpr double kRoundoff = 1e-14;
 SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptions& options,
                                                          const BlockPattern& pattern)
     : options_(options),
+      single_sweeps_(options.single_precision_sweeps
+                     && options.tolerance >= kSingleSweepsTolerance),
       num_vertices_(pattern.num_vertices()),
       diagonal_(9 * static_cast<std::size_t>(pattern.num_vertices())),
       inverse_(9 * static_cast<std::size_t>(pattern.num_vertices())),
@@ -52,7 +54,7 @@ SsorConjugateGradientSolver::SsorConjugateGradientSolver(const LinearSolverOptio
 
 bool SsorConjugateGradientSolver::load(const BlockPattern& a) {
   coarse_.load_blocks(a);
-  const bool single = options_.single_precision_sweeps;
+  const bool single = single_sweeps_;
   if (single) {
     single_values_.resize(static_cast<std::size_t>(a.matrix().nonZeros()));
   }
@@ -108,7 +110,7 @@ SolveReport SsorConjugateGradientSolver::solve(const BlockPattern& a,
     report.residual = std::numeric_limits<double>::quiet_NaN();
     return report;
   }
-  const float* single = options_.single_precision_sweeps ? single_values_.data() : nullptr;
+  const float* single = single_sweeps_ ? single_values_.data() : nullptr;
   const auto gather = [&a, single](int c, bool lower, const double* y, double* out) {
     if (single != nullptr) {
       a.neighbour_sum(c, lower, single, y, out);

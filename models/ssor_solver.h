@@ -58,6 +58,16 @@ class SsorConjugateGradientSolver final : public SystemSolver {
  public:
   SsorConjugateGradientSolver(const LinearSolverOptions& options, const BlockPattern& pattern);
 
+  /// The least tolerance at which the sweeps read the single-precision copy
+  /// (LinearSolverOptions::single_precision_sweeps); below it they read the doubles. CG on the
+  /// rounded sweeps corrects its start by the rounded matrix's inverse, whose error (the
+  /// rounding, 6e-8 of an entry, times the system's conditioning) no tolerance can go below:
+  /// asked for 1e-7 on the tests' box, or 1e-8 on liver_x4, the estimate never met it and CG
+  /// broke down with the iterate far from the answer (liver_x4's body wrecked in 20 steps).
+  /// 1e-6 converged on both (1e-7 on liver_x4): the floor is a factor of 10 above the box's
+  /// edge, 100 above liver_x4's, and a thousandth of corotational_fem's default tolerance.
+  static constexpr double kSingleSweepsTolerance = 1e-6;
+
   SolveReport solve(const BlockPattern& a,
                     const Eigen::VectorXd& b,
                     Eigen::VectorXd& x,
@@ -74,6 +84,9 @@ class SsorConjugateGradientSolver final : public SystemSolver {
   static constexpr int kVerticesPerBlock = 256;
 
   LinearSolverOptions options_;
+  /// Whether the sweeps read single_values_: asked for, and the tolerance at least
+  /// kSingleSweepsTolerance.
+  bool single_sweeps_ = false;
   int num_vertices_ = 0;
   std::vector<double> diagonal_;  ///< 9 per vertex, row-major D_c
   std::vector<double> inverse_;   ///< 9 per vertex, D_c^-1

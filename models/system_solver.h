@@ -46,7 +46,8 @@ struct LinearSolverOptions {
   int coarse_vertices = 0;
   /// kSsor: the sweeps read a single-precision copy of the matrix's blocks off the diagonal
   /// (made once a solve) instead of the matrix: half the bytes an iteration where the matrix
-  /// does not fit in the cache and the sweeps wait on memory.
+  /// does not fit in the cache and the sweeps wait on memory. Only from a tolerance of
+  /// SsorConjugateGradientSolver::kSingleSweepsTolerance: below it the doubles are read.
   bool single_precision_sweeps = false;
   /// Iterative kinds: start from the best combination of the caller's guess and the last
   /// solutions (GalerkinWarmStart, warm_start.h; a few products a solve) instead of the guess

@@ -105,7 +105,9 @@ struct CorotationalFemParams {
   /// "ssor" only: the precision of the matrix the sweeps read (LinearSolverOptions::
   /// single_precision_sweeps). "single" halves the bytes an iteration, which is what bounds the
   /// sweeps once the matrix outgrows the cache; "auto": single from CorotationalFemModel::
-  /// kSingleSweepsFromVertices, where it was measured faster.
+  /// kSingleSweepsFromVertices, where it was measured faster. Either way the doubles are read
+  /// below a cg_tolerance of 1e-6 (SsorConjugateGradientSolver::kSingleSweepsTolerance), which
+  /// the rounded sweeps cannot reach.
   SweepPrecision sweep_precision = SweepPrecision::kAuto;
   /// Iterative solvers: start each solve from the best combination (in the energy norm) of the
   /// last step's velocity change and the three before it (models/warm_start.h; their four

@@ -10,6 +10,7 @@
 #include "geometry/vertex_order.h"
 #include "models/block_pattern.h"
 #include "models/coarse_space.h"
+#include "models/ssor_solver.h"
 #include "models/warm_start.h"
 #include "tests/test_meshes.h"
 
@@ -183,6 +184,101 @@ TEST(SystemSolver, SsorSweepsPartsSideBySideToTheSameAnswerOnAnyThreadCount) {
   }
   // The separator's vertices are swept last, which couples less at once: a few more iterations.
   EXPECT_LE(iterations[1], 1.25 * iterations[0]) << iterations[0] << " vs " << iterations[1];
+}
+
+/// The box of the parts tests, numbered for locality and cut into two parts and a separator,
+/// its system's sweeps run on the parts side by side; `seed` as elastic_like_system's.
+BlockSystem parted_box_system(unsigned seed, PartitionedOrder* cut_out = nullptr) {
+  const TetMesh box = make_tet_mesh(test::box_tets(16, 4, 3));
+  const TetMesh local = renumbered(box, reverse_cuthill_mckee(box.tets(), box.num_vertices()));
+  const PartitionedOrder cut = partitioned(local.tets(), local.num_vertices(), 2);
+  EXPECT_EQ(cut.offsets.size(), 4U);
+  const TetMesh mesh = renumbered(local, cut.order);
+  MeshData data;
+  data.vertices = mesh.rest_positions();
+  data.tetrahedra = mesh.tets();
+  BlockSystem system = elastic_like_system(seed, data, /*with_dense=*/false);
+  system.pattern.set_parts(cut.offsets);
+  if (cut_out != nullptr) {
+    *cut_out = cut;
+  }
+  return system;
+}
+
+/// x from zero, with `threads` OpenMP threads; the report into `report`.
+Eigen::VectorXd solve_on_threads(const BlockSystem& system,
+                                 const Eigen::VectorXd& b,
+                                 const LinearSolverOptions& options,
+                                 int threads,
+                                 SolveReport& report) {
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  const auto solver = make_system_solver(options, system.pattern);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
+  report = solver->solve(system.pattern, b, x, nullptr);
+  omp_set_num_threads(threads_before);
+  return x;
+}
+
+TEST(SystemSolver, SsorWithPartsAggregatesAndSingleSweepsLoadsTheSameOnAnyThreadCount) {
+  // The solve's start on the threads: E's factorisation on one thread beside the diagonal
+  // blocks and the single-precision copy on the others. The same answer to the bit at one and
+  // two threads; and a singular diagonal block found wherever it lies, the solve then failing
+  // with NaN rather than iterating.
+  PartitionedOrder cut;
+  BlockSystem system = parted_box_system(11, &cut);
+  LinearSolverOptions options = cg_options(Preconditioner::kSsor, 1e-6);
+  options.coarse_vertices = 32;
+  options.single_precision_sweeps = true;
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 12);
+  SolveReport one;
+  SolveReport two;
+  const Eigen::VectorXd x1 = solve_on_threads(system, b, options, 1, one);
+  const Eigen::VectorXd x2 = solve_on_threads(system, b, options, 2, two);
+  EXPECT_TRUE(one.converged);
+  EXPECT_TRUE(x1 == x2);  // bit-identical
+
+  // A vertex of the second part, so that on two threads it is not the first block taken.
+  const int vertex = cut.offsets[1] + 3;
+  system.pattern.set(system.pattern.vertex_block(vertex), Eigen::Matrix3d::Zero());
+  for (const int threads : {1, 2}) {
+    SolveReport report;
+    const Eigen::VectorXd x = solve_on_threads(system, b, options, threads, report);
+    EXPECT_FALSE(report.succeeded) << threads;
+    EXPECT_TRUE(x.array().isNaN().all()) << threads;
+  }
+}
+
+TEST(SystemSolver, SsorReadsTheDoublesBelowTheSingleSweepsTolerance) {
+  // Asked for 1e-8 with single-precision sweeps, CG on the rounded sweeps broke down here after
+  // 37 iterations with a residual of 0.52 (no tolerance below the rounding's effect can be
+  // met). Below kSingleSweepsTolerance the solver reads the doubles: it converges, to the same
+  // bits as a solve asked for double sweeps. At the floor it still reads the copy (the answer
+  // differs from the doubles' in its last bits) and converges.
+  const BlockSystem system = parted_box_system(11);
+  const Eigen::VectorXd b = random_vector(system.pattern.size(), 12);
+  LinearSolverOptions tight = cg_options(Preconditioner::kSsor, 1e-8);
+  tight.coarse_vertices = 32;
+  LinearSolverOptions tight_single = tight;
+  tight_single.single_precision_sweeps = true;
+  SolveReport doubles;
+  SolveReport asked_single;
+  const Eigen::VectorXd x_doubles = solve_on_threads(system, b, tight, 1, doubles);
+  const Eigen::VectorXd x_asked = solve_on_threads(system, b, tight_single, 1, asked_single);
+  EXPECT_TRUE(asked_single.converged);
+  EXPECT_LT(asked_single.residual, 1e-6);
+  EXPECT_TRUE(x_asked == x_doubles);
+
+  LinearSolverOptions floor = tight;
+  floor.tolerance = SsorConjugateGradientSolver::kSingleSweepsTolerance;
+  LinearSolverOptions floor_single = floor;
+  floor_single.single_precision_sweeps = true;
+  SolveReport at_floor;
+  SolveReport at_floor_single;
+  const Eigen::VectorXd y_doubles = solve_on_threads(system, b, floor, 1, at_floor);
+  const Eigen::VectorXd y_single = solve_on_threads(system, b, floor_single, 1, at_floor_single);
+  EXPECT_TRUE(at_floor_single.converged);
+  EXPECT_FALSE(y_single == y_doubles);
 }
 
 TEST(SystemSolver, SsorStartsFromTheGuessItIsGiven) {
