@@ -149,25 +149,48 @@ TEST(SystemSolver, SymmetricGaussSeidelNeedsFewerIterationsThanJacobi) {
   EXPECT_LT(iterations[1], 0.7 * iterations[0]) << iterations[0] << " vs " << iterations[1];
 }
 
+/// The box the parts tests solve on, numbered for locality and cut into two parts and a
+/// separator (the sweeps then run on the parts side by side).
+struct PartedBox {
+  MeshData data;
+  PartitionedOrder cut;
+};
+
+PartedBox parted_box() {
+  const TetMesh box = make_tet_mesh(test::box_tets(16, 4, 3));
+  const TetMesh local = renumbered(box, reverse_cuthill_mckee(box.tets(), box.num_vertices()));
+  PartedBox result;
+  result.cut = partitioned(local.tets(), local.num_vertices(), 2);
+  EXPECT_EQ(result.cut.offsets.size(), 4U);
+  const TetMesh mesh = renumbered(local, result.cut.order);
+  result.data.vertices = mesh.rest_positions();
+  result.data.tetrahedra = mesh.tets();
+  return result;
+}
+
+/// elastic_like_system (no dense matrix) on parted_box(), its parts set.
+BlockSystem parted_box_system(unsigned seed, PartitionedOrder* cut_out = nullptr) {
+  const PartedBox box = parted_box();
+  BlockSystem system = elastic_like_system(seed, box.data, /*with_dense=*/false);
+  system.pattern.set_parts(box.cut.offsets);
+  if (cut_out != nullptr) {
+    *cut_out = box.cut;
+  }
+  return system;
+}
+
 TEST(SystemSolver, SsorSweepsPartsSideBySideToTheSameAnswerOnAnyThreadCount) {
   // A box numbered for locality and cut into two parts and a separator: the sweeps run on the
   // parts side by side. The preconditioner is still a symmetric Gauss-Seidel of the same
   // matrix (in another vertex order), so it meets the tolerance as the one-part order does, in
   // about as many iterations, and its answer does not depend on the thread count.
-  const TetMesh box = make_tet_mesh(test::box_tets(16, 4, 3));
-  const TetMesh local = renumbered(box, reverse_cuthill_mckee(box.tets(), box.num_vertices()));
-  const PartitionedOrder cut = partitioned(local.tets(), local.num_vertices(), 2);
-  ASSERT_EQ(cut.offsets.size(), 4U);
-  const TetMesh mesh = renumbered(local, cut.order);
-  MeshData data;
-  data.vertices = mesh.rest_positions();
-  data.tetrahedra = mesh.tets();
+  const PartedBox box = parted_box();
   constexpr double kTolerance = 1e-6;
   int iterations[2] = {0, 0};
   for (const bool parts : {false, true}) {
-    BlockSystem system = elastic_like_system(9, data);
+    BlockSystem system = elastic_like_system(9, box.data);
     if (parts) {
-      system.pattern.set_parts(cut.offsets);
+      system.pattern.set_parts(box.cut.offsets);
     }
     const Eigen::VectorXd b = random_vector(system.pattern.size(), 10);
     const int threads_before = omp_get_max_threads();
@@ -184,25 +207,6 @@ TEST(SystemSolver, SsorSweepsPartsSideBySideToTheSameAnswerOnAnyThreadCount) {
   }
   // The separator's vertices are swept last, which couples less at once: a few more iterations.
   EXPECT_LE(iterations[1], 1.25 * iterations[0]) << iterations[0] << " vs " << iterations[1];
-}
-
-/// The box of the parts tests, numbered for locality and cut into two parts and a separator,
-/// its system's sweeps run on the parts side by side; `seed` as elastic_like_system's.
-BlockSystem parted_box_system(unsigned seed, PartitionedOrder* cut_out = nullptr) {
-  const TetMesh box = make_tet_mesh(test::box_tets(16, 4, 3));
-  const TetMesh local = renumbered(box, reverse_cuthill_mckee(box.tets(), box.num_vertices()));
-  const PartitionedOrder cut = partitioned(local.tets(), local.num_vertices(), 2);
-  EXPECT_EQ(cut.offsets.size(), 4U);
-  const TetMesh mesh = renumbered(local, cut.order);
-  MeshData data;
-  data.vertices = mesh.rest_positions();
-  data.tetrahedra = mesh.tets();
-  BlockSystem system = elastic_like_system(seed, data, /*with_dense=*/false);
-  system.pattern.set_parts(cut.offsets);
-  if (cut_out != nullptr) {
-    *cut_out = cut;
-  }
-  return system;
 }
 
 /// x from zero, with `threads` OpenMP threads; the report into `report`.
@@ -257,28 +261,28 @@ TEST(SystemSolver, SsorReadsTheDoublesBelowTheSingleSweepsTolerance) {
   // differs from the doubles' in its last bits) and converges.
   const BlockSystem system = parted_box_system(11);
   const Eigen::VectorXd b = random_vector(system.pattern.size(), 12);
-  LinearSolverOptions tight = cg_options(Preconditioner::kSsor, 1e-8);
-  tight.coarse_vertices = 32;
-  LinearSolverOptions tight_single = tight;
-  tight_single.single_precision_sweeps = true;
-  SolveReport doubles;
-  SolveReport asked_single;
-  const Eigen::VectorXd x_doubles = solve_on_threads(system, b, tight, 1, doubles);
-  const Eigen::VectorXd x_asked = solve_on_threads(system, b, tight_single, 1, asked_single);
-  EXPECT_TRUE(asked_single.converged);
-  EXPECT_LT(asked_single.residual, 1e-6);
-  EXPECT_TRUE(x_asked == x_doubles);
+  // One solve at `tolerance` with double sweeps asked, one with single: their reports and answers.
+  struct Pair {
+    SolveReport doubles, single;
+    Eigen::VectorXd x_doubles, x_single;
+  };
+  const auto solve_both = [&](double tolerance) {
+    LinearSolverOptions options = cg_options(Preconditioner::kSsor, tolerance);
+    options.coarse_vertices = 32;
+    Pair pair;
+    pair.x_doubles = solve_on_threads(system, b, options, 1, pair.doubles);
+    options.single_precision_sweeps = true;
+    pair.x_single = solve_on_threads(system, b, options, 1, pair.single);
+    return pair;
+  };
+  const Pair tight = solve_both(1e-8);
+  EXPECT_TRUE(tight.single.converged);
+  EXPECT_LT(tight.single.residual, 1e-6);
+  EXPECT_TRUE(tight.x_single == tight.x_doubles);
 
-  LinearSolverOptions floor = tight;
-  floor.tolerance = SsorConjugateGradientSolver::kSingleSweepsTolerance;
-  LinearSolverOptions floor_single = floor;
-  floor_single.single_precision_sweeps = true;
-  SolveReport at_floor;
-  SolveReport at_floor_single;
-  const Eigen::VectorXd y_doubles = solve_on_threads(system, b, floor, 1, at_floor);
-  const Eigen::VectorXd y_single = solve_on_threads(system, b, floor_single, 1, at_floor_single);
-  EXPECT_TRUE(at_floor_single.converged);
-  EXPECT_FALSE(y_single == y_doubles);
+  const Pair floor = solve_both(SsorConjugateGradientSolver::kSingleSweepsTolerance);
+  EXPECT_TRUE(floor.single.converged);
+  EXPECT_FALSE(floor.x_single == floor.x_doubles);
 }
 
 TEST(SystemSolver, SsorStartsFromTheGuessItIsGiven) {
