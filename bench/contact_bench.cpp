@@ -29,6 +29,10 @@
 // - what the contact bought, beside what it cost: peak_tool_force_N (the largest force on the
 //   tool at any step) and max_penetration_mm (the deepest the tool went into the tissue, or the
 //   tissue into the tool, at any step's end), as softbench run reports them;
+// - what the figures did not finish, as softbench run counts it: unsettled_contact_steps (steps
+//   that ran out of the scene's contact passes with the holds still changing; judged after the
+//   step, outside its timed work) and truncated_solves (solves stopped at their iteration cap),
+//   per scene;
 // - force_vs_cholmod (corotational_fem): the largest difference at any step between its tool
 //   force and that of the same scene with its solves by CHOLMOD (solver "cholmod"), relative
 //   to that run's peak: what the default solver's stopping rule costs the contact's answer.
@@ -248,6 +252,7 @@ void contact_benchmark(benchmark::State& state,
   std::vector<double> touching, apart, model;
   // Linear-solver iterations and solves (all passes), over every step and the touching ones.
   long iterations = 0, solves = 0, touching_iterations = 0, touching_solves = 0;
+  long unsettled = 0, truncated = 0;
   double contact_total = 0.0, model_total = 0.0;
   long stepped = 0;
   int max_pairs = 0;
@@ -276,6 +281,7 @@ void contact_benchmark(benchmark::State& state,
       (loaded ? touching : apart).push_back(1e3 * contact_seconds);
       iterations += stats.iterations;
       solves += stats.linear_solves;
+      truncated += stats.truncated_solves;
       if (loaded) {
         touching_iterations += stats.iterations;
         touching_solves += stats.linear_solves;
@@ -287,6 +293,7 @@ void contact_benchmark(benchmark::State& state,
       ++stepped;
     }
     contact_total += iteration_contact;
+    unsettled += stepper.unsettled_contact_steps();
     max_pairs = std::max(max_pairs, stepper.loading().max_triangle_pairs());
     max_penetration = std::max(max_penetration, stepper.loading().max_penetration());
     state.SetIterationTime(iteration_contact / steps);
@@ -302,6 +309,11 @@ void contact_benchmark(benchmark::State& state,
   state.counters["steps_touching"] =
       static_cast<double>(touching.size()) / static_cast<double>(state.iterations());
   state.counters["max_triangle_pairs"] = max_pairs;
+  const auto per_scene = [&](long count) {
+    return static_cast<double>(count) / static_cast<double>(state.iterations());
+  };
+  state.counters["unsettled_contact_steps"] = per_scene(unsettled);
+  state.counters["truncated_solves"] = per_scene(truncated);
   if (solves > 0) {
     state.counters["mean_iterations"] =
         static_cast<double>(iterations) / static_cast<double>(solves);

@@ -438,6 +438,21 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
   return changed;
 }
 
+bool InstrumentContact::refine_would_change(const Eigen::Isometry3d& pose,
+                                            const Eigen::Matrix3Xd& positions,
+                                            const Eigen::Matrix3Xd& forces) {
+  // refine() changes the targets and marks the holds it drops; all of it is put back (a copy
+  // of each: this runs only for a step that ran out of passes).
+  const std::vector<VertexTarget> targets = targets_;
+  const std::vector<char> dropped_flags = dropped_;
+  const std::size_t dropped = dropped_vertices_.size();
+  const bool changed = refine(pose, positions, forces);
+  targets_ = targets;
+  dropped_ = dropped_flags;
+  dropped_vertices_.resize(dropped);
+  return changed;
+}
+
 // The instrument's points the tissue ended around (a thin tip the tissue sprang back over as
 // the tool withdrew, faster than the tool): the triangle under each is held the margin outside
 // the point, as resolve() pushes it, its corners held fully so it stays under the point.

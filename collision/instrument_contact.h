@@ -114,6 +114,12 @@ class InstrumentContact {
   bool refine(const Eigen::Isometry3d& pose,
               const Eigen::Matrix3Xd& positions,
               const Eigen::Matrix3Xd& forces);
+  /// Whether refine() with these arguments would change the targets, leaving them as they are:
+  /// for a step that ran out of passes, whether its holds had settled (a measure: the samples'
+  /// clearances and the tissue's tree are left at `positions`, as measure() leaves them).
+  bool refine_would_change(const Eigen::Isometry3d& pose,
+                           const Eigen::Matrix3Xd& positions,
+                           const Eigen::Matrix3Xd& forces);
   /// The current targets (resolve()'s, as refine() changed them).
   const std::vector<VertexTarget>& targets() const { return targets_; }
 

@@ -273,7 +273,8 @@ InstrumentGrasp read_instrument_grasp(const JsonReader& instrument) {
 
 Instrument read_instrument(const JsonReader& root, const fs::path& folder) {
   const JsonReader in = root.object("instrument");
-  allow_only(in, {"mesh", "path", "grasp", "start", "release", "contact_margin"});
+  allow_only(in,
+             {"mesh", "path", "grasp", "start", "release", "contact_margin", "contact_passes"});
   Instrument instrument;
   instrument.mesh = existing_file(in, "mesh", folder);
   const std::vector<JsonReader> keys = in.objects("path");
@@ -294,6 +295,8 @@ Instrument read_instrument(const JsonReader& root, const fs::path& folder) {
   }
   instrument.contact_margin =
       in.number_or("contact_margin", instrument.contact_margin, Range::positive());
+  instrument.contact_passes =
+      in.integer_or("contact_passes", instrument.contact_passes, 1, kMaxContactPasses);
   instrument.start = in.number_or("start", instrument.path.front().time, Range::non_negative());
   if (in.has("grasp")) {
     instrument.grasp = read_instrument_grasp(in);
@@ -531,7 +534,8 @@ nlohmann::json to_json(const Scene& scene) {
     json["instrument"] = {{"mesh", path_as_written(instrument.mesh, scene.source)},
                           {"path", path},
                           {"start", instrument.start},
-                          {"contact_margin", instrument.contact_margin}};
+                          {"contact_margin", instrument.contact_margin},
+                          {"contact_passes", instrument.contact_passes}};
     if (instrument.grasp) {
       json["instrument"]["grasp"] = {{"center", vector_json(instrument.grasp->center)},
                                      {"radius", instrument.grasp->radius},

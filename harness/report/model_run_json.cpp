@@ -124,11 +124,13 @@ nlohmann::json to_json(const ModelRun& run) {
                      {"lost_contact_vertices", contact.lost_contact_vertices},
                      {"max_triangle_pairs", contact.max_triangle_pairs},
                      {"peak_tool_force", contact.peak_tool_force},
-                     {"loaded_travel", contact.loaded_travel}};
+                     {"loaded_travel", contact.loaded_travel},
+                     {"unsettled_steps", contact.unsettled_steps}};
   const SolverMetrics& solver = run.solver;
   json["solver"] = {{"mean_iterations", solver.mean_iterations},
                     {"factorizations", solver.factorizations},
                     {"linear_solves", solver.linear_solves},
+                    {"truncated_solves", solver.truncated_solves},
                     {"max_constraint_error", solver.max_constraint_error},
                     {"final_reaction_sum",
                      {number_or_null(solver.final_reaction_sum.x()),
@@ -199,11 +201,13 @@ ModelRun model_run_from_json(const JsonReader& in) {
   run.contact.max_triangle_pairs = contact.integer("max_triangle_pairs", 0, kMaxCount);
   run.contact.peak_tool_force = contact.number("peak_tool_force");
   run.contact.loaded_travel = contact.number("loaded_travel");
+  run.contact.unsettled_steps = contact.integer("unsettled_steps", 0, kMaxCount);
 
   const JsonReader solver = in.object("solver");
   run.solver.mean_iterations = solver.number("mean_iterations");
   run.solver.factorizations = solver.integer("factorizations", 0, kMaxCount);
   run.solver.linear_solves = solver.integer("linear_solves", 0, kMaxCount);
+  run.solver.truncated_solves = solver.integer("truncated_solves", 0, kMaxCount);
   run.solver.max_constraint_error = solver.number("max_constraint_error");
   const nlohmann::json& reactions = solver.raw("final_reaction_sum");
   if (!reactions.is_array() || reactions.size() != 3) {

@@ -169,6 +169,10 @@ std::optional<std::span<const PositionConstraint>> Loading::refine(
   return std::span<const PositionConstraint>(constraints_);
 }
 
+bool Loading::contact_settled(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces) {
+  return !contact_ || !contact_->refine_would_change(end_pose_, positions, forces);
+}
+
 void Loading::observe(double end,
                       const Eigen::Matrix3Xd& positions,
                       const Eigen::Matrix3Xd& forces) {

@@ -36,14 +36,17 @@ class Loading {
                                                   const Eigen::Matrix3Xd& velocities,
                                                   const Eigen::Matrix3Xd& last_forces);
 
-  /// After the step ending at `end`: the tool force from the step's constraint forces, and the
-  /// contact measures (penetration, vertices that lost contact) at the step's end.
   /// After the step was taken with constraints()'s constraints (or the last refine()'s), to
   /// `positions` with `forces` on its constraints: the instrument contact's active-set
   /// correction (collision::InstrumentContact::refine). The new constraints when it changed
   /// them (the caller repeats the step from its start with them), else none.
   std::optional<std::span<const PositionConstraint>> refine(const Eigen::Matrix3Xd& positions,
                                                             const Eigen::Matrix3Xd& forces);
+  /// Whether the step's holds had settled where it ended (at `positions` with `forces`): refine()
+  /// would change nothing. Changes nothing itself; true without an instrument.
+  bool contact_settled(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces);
+  /// After the step ending at `end`: the tool force from the step's constraint forces, and the
+  /// contact measures (penetration, vertices that lost contact) at the step's end.
   void observe(double end, const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& forces);
 
   double tool_displacement() const { return tool_displacement_; }  ///< m, at the last observe

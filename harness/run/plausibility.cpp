@@ -88,6 +88,14 @@ void judge_contact(const ModelRun& run,
                        + " N (below " + g3(limits.min_loaded_force)
                        + " N: the model does not report the force its contact takes)"});
   }
+  if (scene.instrument && contact.unsettled_steps > limits.max_unsettled_contact_steps) {
+    out.push_back({kWarningUnsettledContact,
+                   std::to_string(contact.unsettled_steps) + " of "
+                       + std::to_string(run.timing.steps_run) + " steps ran out of contact passes ("
+                       + std::to_string(scene.instrument->contact_passes)
+                       + ") with the holds still changing: each kept a pass the contact would "
+                         "have corrected, its force and penetration not a settled contact's"});
+  }
   if (scene.instrument) {
     const double allowed = scene.instrument->contact_margin + limits.penetration_slack;
     if (contact.max_penetration_pressing > allowed) {
@@ -97,6 +105,20 @@ void judge_contact(const ModelRun& run,
                          + millimetres(scene.instrument->contact_margin) + " margin; above "
                          + millimetres(allowed) + " it did not hold)"});
     }
+  }
+}
+
+void judge_solver(const ModelRun& run,
+                  const PlausibilityLimits& limits,
+                  std::vector<Warning>& out) {
+  const SolverMetrics& solver = run.solver;
+  if (solver.truncated_solves > limits.max_truncated_solves) {
+    out.push_back({kWarningTruncatedSolves,
+                   std::to_string(solver.truncated_solves) + " of "
+                       + std::to_string(solver.linear_solves)
+                       + " linear solves stopped at their iteration cap before their tolerance: "
+                         "those steps have less than the accuracy asked, and their error "
+                         "carries on"});
   }
 }
 
@@ -135,6 +157,7 @@ std::vector<Warning> judge_plausibility(const ModelRun& run,
   judge_shape(run, limits, warnings);
   judge_withdrawn_force(run, scene, limits, warnings);
   judge_contact(run, scene, limits, warnings);
+  judge_solver(run, limits, warnings);
   return warnings;
 }
 

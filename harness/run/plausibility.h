@@ -49,6 +49,14 @@ struct PlausibilityLimits {
   /// vertex deeper inside the tool than the margin plus this, while the tool presses, is contact
   /// that did not hold (ContactMetrics::max_penetration_pressing).
   double penetration_slack = 1e-4;  ///< m
+  /// Linear solves that stopped at their iteration cap (SolverMetrics::truncated_solves): a
+  /// truncated solve's step has less than the accuracy its tolerance asks, and its error
+  /// carries into every later step; none is the only count a default solver should show.
+  int max_truncated_solves = 0;
+  /// Steps whose contact holds were still changing when their passes ran out
+  /// (ContactMetrics::unsettled_steps): each kept a pass the contact would have corrected, so
+  /// its force and penetration are not a settled contact's.
+  int max_unsettled_contact_steps = 0;
 };
 
 // The ids of Warning (runner.h).
@@ -58,6 +66,8 @@ inline constexpr const char* kWarningStuckInverted = "stuck_inverted";
 inline constexpr const char* kWarningForceAfterWithdrawal = "force_after_withdrawal";
 inline constexpr const char* kWarningNoContactForce = "no_contact_force";
 inline constexpr const char* kWarningPenetration = "penetration";
+inline constexpr const char* kWarningTruncatedSolves = "truncated_solves";
+inline constexpr const char* kWarningUnsettledContact = "unsettled_contact";
 
 /// s: from when the scene's tool carries no load: a scene grasp's release; an instrument's
 /// release or the end of its path, whichever is later (it is still withdrawing before). Never

@@ -86,6 +86,7 @@ class RunRecorder {
     total_iterations_ += stats.iterations;
     run_.solver.factorizations += stats.factorizations;
     run_.solver.linear_solves += stats.linear_solves;
+    run_.solver.truncated_solves += stats.truncated_solves;
     run_.solver.max_constraint_error =
         std::max(run_.solver.max_constraint_error, stats.max_constraint_error);
   }
@@ -127,6 +128,7 @@ class RunRecorder {
     run_.contact.lost_contact_vertices = loading.lost_contact_vertices();
     run_.contact.max_triangle_pairs = loading.max_triangle_pairs();
     run_.contact.loaded_travel = travel_.max();
+    run_.contact.unsettled_steps = stepper.unsettled_contact_steps();
     run_.solver.mean_iterations = timing.steps_run > 0 ? total_iterations_ / timing.steps_run : 0.0;
     run_.solver.final_reaction_sum = body.constraint_forces().rowwise().sum();
     run_.shape.final_elastic_energy = body.elastic_energy();

@@ -111,6 +111,9 @@ struct ContactMetrics {
   /// instrument, how far it went into the tissue's shape before the load (past first contact); a
   /// grasp, the grasped patch's largest travel while held. 0 without a tool.
   double loaded_travel = 0.0;
+  /// Steps that ran out of the instrument's contact_passes with its holds still changing
+  /// (SceneStepper::unsettled_contact_steps): each kept a pass the contact would have corrected.
+  int unsettled_steps = 0;
 };
 
 /// A plausibility warning on a run that may well be stable (plausibility.h judges them): a
@@ -125,6 +128,9 @@ struct SolverMetrics {
   double mean_iterations = 0.0;
   int factorizations = 0;
   int linear_solves = 0;
+  /// Linear solves that stopped at their iteration cap before their tolerance
+  /// (StepStats::truncated_solves): their steps have less than the accuracy asked.
+  int truncated_solves = 0;
   double max_constraint_error = 0.0;                             ///< m
   Eigen::Vector3d final_reaction_sum = Eigen::Vector3d::Zero();  ///< N, over all constraints
   std::size_t memory_bytes = 0;

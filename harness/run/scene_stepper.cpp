@@ -63,9 +63,12 @@ StepStats SceneStepper::step(int step, SoftBody& body, double* model_seconds, do
   StepStats stats = timed_step();
   // The contact's active set: repeat the step from its start while it drops a pulling hold or
   // holds a vertex that ended inside the instrument. Every pass's solver work is counted.
-  for (int pass = 1; contact && stats.finite && pass < kContactPasses; ++pass) {
+  const int max_passes = contact ? scene_.instrument->contact_passes : 1;
+  bool settled = !contact;
+  for (int pass = 1; contact && stats.finite && pass < max_passes; ++pass) {
     const auto refined = loading_.refine(body.positions(), body.constraint_forces());
     if (!refined) {
+      settled = true;
       break;
     }
     body.set_state(start_positions_, start_velocities_);
@@ -79,6 +82,7 @@ StepStats SceneStepper::step(int step, SoftBody& body, double* model_seconds, do
     stats.max_constraint_error = again.max_constraint_error;
     stats.finite = again.finite;
   }
+  ran_out_of_passes_ = !settled && stats.finite;
   constraints_ = in.constraints;
   if (model_seconds != nullptr) {
     *model_seconds = seconds;
@@ -90,6 +94,11 @@ void SceneStepper::observe(int step, const SoftBody& body) {
   const double end = step * scene_.dt + scene_.dt;  // as the runner times its samples
   if (has_tool_) {
     forces_ = body.constraint_forces();
+    // Judged here, not in step(): the check is a measure, outside the step's timed work.
+    if (ran_out_of_passes_ && !loading_.contact_settled(body.positions(), forces_)) {
+      ++unsettled_contact_steps_;
+    }
+    ran_out_of_passes_ = false;
     loading_.observe(end, body.positions(), forces_);
   }
   if (have_reference_) {

@@ -29,24 +29,15 @@ class SceneStepper {
   /// are bit for bit what they were.
   void start(SoftBody& body) const;
 
-  /// The most passes of a step: the first and the instrument contact's active-set corrections
-  /// (a pass adds or drops holds). Most steps settle in one or two; a step that runs out of
-  /// passes keeps its last pass, holds still changing, and the tool may end inside the tissue.
-  /// Measured on liver_press: corotational_fem and bullet_softbody end the same with a cap of 4
-  /// or 32; shape matching and the mass-spring model need up to 7 passes on a few dozen steps
-  /// and 21-25 on one or two (their unheld neighbours fold over the probe's tip and are held in
-  /// turn). With 4 passes shape
-  /// matching ended 1.78 mm inside the probe and mass_spring 1.50 mm, with 8 passes 1.17 mm, with
-  /// 32 none; steps that settle early cost the same, so the cap only bounds the worst step.
-  static constexpr int kContactPasses = 32;
-
   /// Takes step `step` (from t = step dt) of the body under the scene's loading (input()), and
   /// with an instrument repeats it from its start while the contact's active set changes
-  /// (Loading::refine): no hold pulls, no vertex ends inside the instrument, within
-  /// kContactPasses. `model_seconds` (if given) gets the time spent in the body's step()
-  /// over all passes, read on `clock` (seconds; the steady clock when null): a caller that times
-  /// the whole step on another clock (a thread's CPU time) passes that one, so the difference is
-  /// the step's work outside the model. The step's constraints are then constraints().
+  /// (Loading::refine): no hold pulls, no vertex ends inside the instrument, within the
+  /// instrument's contact_passes (a step that runs out of them is judged at observe(): see
+  /// unsettled_contact_steps()). `model_seconds` (if given) gets the time spent in the body's
+  /// step() over all passes, read on `clock` (seconds; the steady clock when null): a caller
+  /// that times the whole step on another clock (a thread's CPU time) passes that one, so the
+  /// difference is the step's work outside the model. The step's constraints are then
+  /// constraints().
   StepStats step(int step,
                  SoftBody& body,
                  double* model_seconds = nullptr,
@@ -59,6 +50,10 @@ class SceneStepper {
   StepInput input(int step, const SoftBody& body);
   /// After step `step`: the tool's force and contact measures, and the recovery residual.
   void observe(int step, const SoftBody& body);
+
+  /// Steps observed so far that ran out of contact passes with their holds still changing (the
+  /// step kept its last pass; the contact's correction would have changed it again).
+  int unsettled_contact_steps() const { return unsettled_contact_steps_; }
 
   /// Whether recovery is being measured: the reference shape has been taken.
   bool have_reference() const { return have_reference_; }
@@ -78,6 +73,10 @@ class SceneStepper {
   Eigen::Matrix3Xd start_positions_;  ///< the body at the step's start (contact passes)
   Eigen::Matrix3Xd start_velocities_;
   std::span<const PositionConstraint> constraints_;
+  /// The last step() used every contact pass without the holds settling on one; observe()
+  /// then asks whether they had settled on the last.
+  bool ran_out_of_passes_ = false;
+  int unsettled_contact_steps_ = 0;
 };
 
 }  // namespace softbench::harness

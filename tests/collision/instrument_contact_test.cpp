@@ -144,5 +144,55 @@ TEST(InstrumentContact, SearchesOnlyWhenTheInstrumentIsWithinReachOfTheTissueOrI
   EXPECT_EQ(pressed.measure(pose, slab.vertices).max_penetration, 0.0);
 }
 
+bool same_targets(const std::vector<VertexTarget>& a, const std::vector<VertexTarget>& b) {
+  if (a.size() != b.size()) {
+    return false;
+  }
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    if (a[k].vertex != b[k].vertex || a[k].target != b[k].target || a[k].push != b[k].push
+        || a[k].slides != b[k].slides) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Whether a step that ran out of contact passes had settled is asked of refine() without
+// letting it act: the answer is refine()'s own, and the contact goes on exactly as one never
+// asked (the same targets now, after the real correction and at the next step).
+TEST(InstrumentContact, AskingWhetherRefineWouldChangeChangesNothing) {
+  const MeshData slab = box_tets(8, 8, 4, 0.04, 0.04, 0.02);  // top at z = 2 cm
+  const Eigen::Matrix3Xi surface = boundary_triangles(slab.tetrahedra);
+  const TriMesh probe = icosphere(1, 0.003);
+  const Eigen::Matrix3Xd still = Eigen::Matrix3Xd::Zero(3, slab.vertices.cols());
+  constexpr double kDt = 0.01;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(0.02, 0.02, 0.022);  // 1 mm into the top
+  InstrumentContact asked(slab.vertices, surface, probe);
+  InstrumentContact plain(slab.vertices, surface, probe);
+  ASSERT_FALSE(asked.resolve(pose, slab.vertices, still, kDt, still).empty());
+  plain.resolve(pose, slab.vertices, still, kDt, still);
+  // The step "ended" with the tissue where it started, the probe's tip inside it, and a pulling
+  // force on the first hold: the correction holds the triangles around the tip and drops it.
+  Eigen::Matrix3Xd forces = still;
+  forces.col(asked.targets().front().vertex) = -asked.targets().front().push;
+  const std::vector<VertexTarget> before = asked.targets();
+  EXPECT_TRUE(asked.refine_would_change(pose, slab.vertices, forces));
+  EXPECT_TRUE(same_targets(asked.targets(), before));
+  EXPECT_TRUE(asked.refine(pose, slab.vertices, forces));
+  EXPECT_TRUE(plain.refine(pose, slab.vertices, forces));
+  EXPECT_FALSE(same_targets(asked.targets(), before));
+  EXPECT_TRUE(same_targets(asked.targets(), plain.targets()));
+  // Asked again (the dropped hold's vertex is inside the probe: it may come back), answered
+  // as refine() then acts; the next step is the same for both.
+  const bool again = asked.refine_would_change(pose, slab.vertices, still);
+  EXPECT_EQ(plain.refine(pose, slab.vertices, still), again);
+  EXPECT_EQ(asked.refine(pose, slab.vertices, still), again);
+  EXPECT_TRUE(same_targets(asked.targets(), plain.targets()));
+  pose.translation().z() = 0.021;
+  EXPECT_TRUE(same_targets(asked.resolve(pose, slab.vertices, still, kDt, still),
+                           plain.resolve(pose, slab.vertices, still, kDt, still)));
+}
+
 }  // namespace
 }  // namespace softbench::collision

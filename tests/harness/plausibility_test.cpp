@@ -191,6 +191,29 @@ TEST(Plausibility, WarnsAboutTissueDeeperInTheToolThanTheMarginAllows) {
   EXPECT_TRUE(judge_plausibility(run, no_tool).empty());
 }
 
+TEST(Plausibility, WarnsAboutSolvesStoppedAtTheirIterationCap) {
+  ModelRun run = plausible_run();
+  run.solver.linear_solves = 300;
+  run.solver.truncated_solves = 7;
+  const Warning warning = only(judge_plausibility(run, press_scene()));
+  EXPECT_EQ(warning.id, kWarningTruncatedSolves);
+  EXPECT_THAT(warning.message, HasSubstr("7 of 300 linear solves stopped at their iteration cap"));
+  run.solver.truncated_solves = 0;
+  EXPECT_TRUE(judge_plausibility(run, press_scene()).empty());
+}
+
+TEST(Plausibility, WarnsAboutContactStepsThatRanOutOfPassesUnsettled) {
+  scenes::Scene scene = press_scene();
+  scene.instrument->contact_passes = 4;
+  ModelRun run = plausible_run();
+  run.contact.unsettled_steps = 12;
+  const Warning warning = only(judge_plausibility(run, scene));
+  EXPECT_EQ(warning.id, kWarningUnsettledContact);
+  EXPECT_THAT(warning.message, HasSubstr("12 of 300 steps ran out of contact passes (4)"));
+  run.contact.unsettled_steps = 0;
+  EXPECT_TRUE(judge_plausibility(run, scene).empty());
+}
+
 TEST(Plausibility, ReportsEveryWarningOfARunInOrder) {
   ModelRun run = plausible_run();
   run.shape.volume_change = 5.76;
@@ -198,10 +221,13 @@ TEST(Plausibility, ReportsEveryWarningOfARunInOrder) {
   run.shape.final_inverted_tets = 3;
   run.samples.back().tool_force = 0.39;
   run.contact.max_penetration_pressing = 2.2e-3;
+  run.contact.unsettled_steps = 3;
+  run.solver.truncated_solves = 2;
   EXPECT_EQ(
       ids(judge_plausibility(run, press_scene())),
       (std::vector<std::string>{kWarningVolumeChange, kWarningInvertedTets, kWarningStuckInverted,
-                                kWarningForceAfterWithdrawal, kWarningPenetration}));
+                                kWarningForceAfterWithdrawal, kWarningUnsettledContact,
+                                kWarningPenetration, kWarningTruncatedSolves}));
 }
 
 TEST(Plausibility, ADivergedRunGetsNoneItsInstabilityIsTheFinding) {
@@ -228,16 +254,22 @@ TEST(PlausibilityReport, WarningsRoundTripThroughTheRunJsonAndTheReaderStaysStri
   run.contact.loaded_travel = 0.0123;
   run.warnings = judge_plausibility(run, press_scene());
   ASSERT_EQ(run.warnings.size(), 2u);
+  run.contact.unsettled_steps = 5;  // after judging: the warnings stay the two above
+  run.solver.truncated_solves = 4;
   const nlohmann::json json = nlohmann::json::parse(to_json(run).dump());
   EXPECT_EQ(json["warnings"][0]["id"], kWarningVolumeChange);
   EXPECT_EQ(json["shape"]["final_inverted_tets"], 3);
   EXPECT_EQ(json["contact"]["loaded_travel"], 0.0123);
+  EXPECT_EQ(json["contact"]["unsettled_steps"], 5);
+  EXPECT_EQ(json["solver"]["truncated_solves"], 4);
   const ModelRun back = model_run_from_json(JsonReader(json, "metrics.json"));
   ASSERT_EQ(back.warnings.size(), 2u);
   EXPECT_EQ(back.warnings[1].id, kWarningStuckInverted);
   EXPECT_EQ(back.warnings[1].message, run.warnings[1].message);
   EXPECT_EQ(back.shape.final_inverted_tets, 3);
   EXPECT_EQ(back.contact.loaded_travel, 0.0123);
+  EXPECT_EQ(back.contact.unsettled_steps, 5);
+  EXPECT_EQ(back.solver.truncated_solves, 4);
   EXPECT_EQ(to_json(back), json);
 
   nlohmann::json bad = json;

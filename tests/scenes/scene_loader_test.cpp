@@ -55,6 +55,7 @@ constexpr const char* kFullScene = R"({
     "start": 0.25,
     "release": 1.5,
     "contact_margin": 0.001,
+    "contact_passes": 6,
     "path": [
       { "t": 0.0, "position": [0.05, 0.05, 0.2] },
       { "t": 0.5, "position": [0.05, 0.05, 0.1], "rotation": { "axis": [0, 0, 2], "degrees": 90 } },
@@ -160,6 +161,7 @@ void expect_same_scene(const Scene& a, const Scene& b) {
     EXPECT_EQ(a.instrument->start, b.instrument->start);
     EXPECT_EQ(a.instrument->release, b.instrument->release);
     EXPECT_EQ(a.instrument->contact_margin, b.instrument->contact_margin);
+    EXPECT_EQ(a.instrument->contact_passes, b.instrument->contact_passes);
   }
   ASSERT_EQ(a.requirements.has_value(), b.requirements.has_value());
   if (a.requirements) {
@@ -233,6 +235,7 @@ TEST_F(SceneLoader, ReadsEveryKeyOfAFullScene) {
   EXPECT_EQ(scene.instrument->start, 0.25);
   EXPECT_EQ(scene.instrument->release, 1.5);
   EXPECT_EQ(scene.instrument->contact_margin, 0.001);
+  EXPECT_EQ(scene.instrument->contact_passes, 6);
   EXPECT_EQ(scene.limits.max_speed, 20.0);
   EXPECT_EQ(scene.limits.max_displacement, 3.0);
   ASSERT_EQ(scene.model_parameters.size(), 2u);
@@ -518,6 +521,15 @@ TEST_F(SceneLoader, RejectsInstrumentKeyframesOutOfOrder) {
   EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "path": [
                 {"t": 1, "position": [0, 0, 1]}, {"t": 1, "position": [0, 0, 0]}]}})"),
             "/instrument/path/1/t: expected a number > 1 (the previous keyframe's t), got 1");
+}
+
+TEST_F(SceneLoader, RejectsInstrumentContactPassesOutsideOneToAThousand) {
+  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "contact_passes": 0,
+                "path": [{"t": 0, "position": [0, 0, 1]}]}})"),
+            "/instrument/contact_passes: expected an integer in [1, 1000], got 0");
+  EXPECT_EQ(error_for(R"({"instrument": {"mesh": "tool.obj", "contact_passes": 2.5,
+                "path": [{"t": 0, "position": [0, 0, 1]}]}})"),
+            "/instrument/contact_passes: expected an integer in [1, 1000], got 2.5");
 }
 
 TEST_F(SceneLoader, RejectsAZeroRotationAxis) {
