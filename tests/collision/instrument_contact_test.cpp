@@ -104,15 +104,21 @@ TEST(InstrumentContact, APointBehindAnInvertedPatchOfTheTissuePushesNothing) {
   intact.resolve(pressing, rest, still, kDt, still);
   EXPECT_FALSE(intact.resolve(pressing, rest, still, kDt, still).empty());
 }
-// The contact's work follows the contact, not the tissue: with the probe out of reach nothing is
-// refitted or searched, but "out of reach" counts the tissue's free flight, so tissue flying at
-// a still probe within the step is caught, not passed through.
-TEST(InstrumentContact, SearchesOnlyWhenTheInstrumentIsWithinReachOfTheTissueOrItsFreeFlight) {
-  const MeshData slab = box_tets(8, 8, 4, 0.04, 0.04, 0.02);  // 4 x 4 x 2 cm, top at z = 2 cm
+
+// A 4 x 4 x 2 cm slab of 5 mm cells (top at z = 2 cm) at rest, and a 6 mm probe.
+class SlabAndProbe : public ::testing::Test {
+ protected:
+  static constexpr double kDt = 0.01;
+  const MeshData slab = box_tets(8, 8, 4, 0.04, 0.04, 0.02);
   const Eigen::Matrix3Xi surface = boundary_triangles(slab.tetrahedra);
   const TriMesh probe = icosphere(1, 0.003);
   const Eigen::Matrix3Xd still = Eigen::Matrix3Xd::Zero(3, slab.vertices.cols());
-  constexpr double kDt = 0.01;
+};
+
+// The contact's work follows the contact, not the tissue: with the probe out of reach nothing is
+// refitted or searched, but "out of reach" counts the tissue's free flight, so tissue flying at
+// a still probe within the step is caught, not passed through.
+TEST_F(SlabAndProbe, SearchesOnlyWhenTheInstrumentIsWithinReachOfTheTissueOrItsFreeFlight) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.02, 0.02, 0.05);  // 2.7 cm above the top
 
@@ -160,12 +166,7 @@ bool same_targets(const std::vector<VertexTarget>& a, const std::vector<VertexTa
 // Whether a step that ran out of contact passes had settled is asked of refine() without
 // letting it act: the answer is refine()'s own, and the contact goes on exactly as one never
 // asked (the same targets now, after the real correction and at the next step).
-TEST(InstrumentContact, AskingWhetherRefineWouldChangeChangesNothing) {
-  const MeshData slab = box_tets(8, 8, 4, 0.04, 0.04, 0.02);  // top at z = 2 cm
-  const Eigen::Matrix3Xi surface = boundary_triangles(slab.tetrahedra);
-  const TriMesh probe = icosphere(1, 0.003);
-  const Eigen::Matrix3Xd still = Eigen::Matrix3Xd::Zero(3, slab.vertices.cols());
-  constexpr double kDt = 0.01;
+TEST_F(SlabAndProbe, AskingWhetherRefineWouldChangeChangesNothing) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.02, 0.02, 0.022);  // 1 mm into the top
   InstrumentContact asked(slab.vertices, surface, probe);
