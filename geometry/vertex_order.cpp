@@ -115,7 +115,6 @@ PartitionedOrder partitioned(const Eigen::Matrix4Xi& tets, int num_vertices, int
   }
   std::vector<char> separator(n, 0);
   const auto mark = [&] {
-    int separated = 0;
     for (std::size_t k = 1; k < count; ++k) {
       for (int v = cuts[k]; v < cuts[k + 1]; ++v) {
         separator[static_cast<std::size_t>(v)] = lowest[static_cast<std::size_t>(v)] < cuts[k];
@@ -124,10 +123,6 @@ PartitionedOrder partitioned(const Eigen::Matrix4Xi& tets, int num_vertices, int
     for (int v = 0; v < cuts[1]; ++v) {
       separator[static_cast<std::size_t>(v)] = 0;
     }
-    for (const char s : separator) {
-      separated += s;
-    }
-    return separated;
   };
   // Move each cut until the parts before it hold their share of the work outside the separator
   // (a few rounds: moving a cut moves its front, which is about as large). The cut moves over

@@ -65,7 +65,7 @@ StepStats SceneStepper::step(int step, SoftBody& body, double* model_seconds, do
   // holds a vertex that ended inside the instrument. Every pass's solver work is counted.
   const int max_passes = contact ? scene_.instrument->contact_passes : 1;
   bool settled = !contact;
-  for (int pass = 1; contact && stats.finite && pass < max_passes; ++pass) {
+  for (int pass = 1; stats.finite && pass < max_passes; ++pass) {
     const auto refined = loading_.refine(body.positions(), body.constraint_forces());
     if (!refined) {
       settled = true;
