@@ -147,8 +147,13 @@ MeshDistance::Nearest MeshDistance::search(const Eigen::Vector3d& point,
     consider(hint, positions_.col(triangles_(0, hint)), positions_.col(triangles_(1, hint)),
              positions_.col(triangles_(2, hint)));
   }
-  // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries.
-  std::array<std::pair<int, double>, BvhSchedule::kMaxLevels + 2> stack;
+  // Depth-first, each pop pushes at most two: the stack holds at most levels + 1 entries. Left
+  // uninitialised (a std::pair would zero all of them each query).
+  struct Pending {
+    int node;
+    double bound;
+  };
+  std::array<Pending, BvhSchedule::kMaxLevels + 2> stack;
   int top = 0;
   const std::vector<BvhNode>& nodes = tree_.nodes();
   stack[static_cast<std::size_t>(top++)] = {0, squared_lower_bound(nodes[0], point)};
