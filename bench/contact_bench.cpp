@@ -156,6 +156,26 @@
 // and only one pass leaves steps unsettled and the tissue 3.3 mm into the tool. Shape matching's
 // crumpling pull settles in no budget: fewer passes trade its worst step (38.6 -> 1.6 ms) for
 // penetration (5.8 -> 28.8 mm), 291 of its 300 steps unsettled with two passes or one.
+//
+// 2026-12-07, where the FEM press's contact work goes, in instructions (callgrind over
+// InstrumentContact::resolve and refine, `softbench run scenes/liver_press.json --model
+// corotational_fem`; the VM's timings moved by 2x that day): 185 M over the scene. The probe's
+// points' nearest-point searches take 42% (about 20,000 a run, 3,800 instructions each: 13.7
+// nodes, 2.9 leaves of up to 10 triangles, 5.8 point-triangle tests), the triangle-pair count
+// (the thesis's measure: broad phase and exact tests) 19%, the tissue vertices' and free
+// flight's queries 7%, the pass over the tissue that starts a step 8%, the trees' refits 6%.
+// Of the searches at the step's start, 34% find the point 4 mm or more outside and 60% more than
+// 1 mm: the clearances run out because the tool moves 1 mm a step while it presses, and the
+// tissue at the dimple's rim stays put, so no bound that spends the relative motion keeps them.
+// Tried and not kept:
+// - searching a point still known to be outside only within the band's reach (2 margins plus the
+//   tissue's free flight) instead of the fold's radius: each search opens fewer nodes, but the
+//   "outside by the reach" it leaves runs out the next step where a full search's distance
+//   lasted several: 3% more instructions over the scene, peak forces and penetration the same;
+// - the tissue tree with leaves of 4, 6 or 2 triangles (13, 12 or 14 box levels instead of the
+//   thesis's 11 of sphere and box): contact_ms_touching 0.25-0.28 ms against 0.23-0.24, the
+//   refits and the pair count costing more than the searches save;
+// - the start pass as whole-matrix Eigen passes: 25% more instructions than the one loop.
 #include "bench/bench_smoke.h"
 #include "bench/thread_cpu_clock.h"
 #include "harness/run/scene_mesh.h"
