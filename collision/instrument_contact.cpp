@@ -441,15 +441,21 @@ bool InstrumentContact::refine(const Eigen::Isometry3d& pose,
 bool InstrumentContact::refine_would_change(const Eigen::Isometry3d& pose,
                                             const Eigen::Matrix3Xd& positions,
                                             const Eigen::Matrix3Xd& forces) {
-  // refine() changes the targets and marks the holds it drops; all of it is put back (a copy
-  // of each: this runs only for a step that ran out of passes).
-  const std::vector<VertexTarget> targets = targets_;
-  const std::vector<char> dropped_flags = dropped_;
+  // refine() changes the targets and marks the holds it drops; all of it is put back. A vertex
+  // is marked exactly while it is listed in dropped_vertices_, so the marks need no copy: the
+  // ones refine() added are cleared and the earlier ones set again (a hold dropped earlier this
+  // step, taken back and dropped again, is listed twice).
+  saved_targets_.assign(targets_.begin(), targets_.end());
   const std::size_t dropped = dropped_vertices_.size();
   const bool changed = refine(pose, positions, forces);
-  targets_ = targets;
-  dropped_ = dropped_flags;
+  targets_.swap(saved_targets_);
+  for (std::size_t k = dropped; k < dropped_vertices_.size(); ++k) {
+    dropped_[static_cast<std::size_t>(dropped_vertices_[k])] = 0;
+  }
   dropped_vertices_.resize(dropped);
+  for (const int vertex : dropped_vertices_) {
+    dropped_[static_cast<std::size_t>(vertex)] = 1;
+  }
   return changed;
 }
 

@@ -154,6 +154,8 @@ class InstrumentContact {
   /// Per tissue vertex: its target's index in targets_ while refine() runs, else -1.
   std::vector<int> target_index_;
   std::vector<int> dropped_vertices_;  ///< where dropped_ is set, to clear it at the next step
+  /// refine_would_change()'s copy of the targets to put back (kept: no allocation each time).
+  std::vector<VertexTarget> saved_targets_;
   /// m: how far from the tissue's surface an instrument point can still push it or be checked
   /// for a fold, this step (see the definition).
   double cull_radius() const;

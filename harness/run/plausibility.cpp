@@ -88,7 +88,10 @@ void judge_contact(const ModelRun& run,
                        + " N (below " + g3(limits.min_loaded_force)
                        + " N: the model does not report the force its contact takes)"});
   }
-  if (scene.instrument && contact.unsettled_steps > limits.max_unsettled_contact_steps) {
+  if (!scene.instrument) {
+    return;
+  }
+  if (contact.unsettled_steps > limits.max_unsettled_contact_steps) {
     out.push_back({kWarningUnsettledContact,
                    std::to_string(contact.unsettled_steps) + " of "
                        + std::to_string(run.timing.steps_run) + " steps ran out of contact passes ("
@@ -96,15 +99,13 @@ void judge_contact(const ModelRun& run,
                        + ") with the holds still changing: each kept a pass the contact would "
                          "have corrected, its force and penetration not a settled contact's"});
   }
-  if (scene.instrument) {
-    const double allowed = scene.instrument->contact_margin + limits.penetration_slack;
-    if (contact.max_penetration_pressing > allowed) {
-      out.push_back({kWarningPenetration,
-                     "the tissue went " + millimetres(contact.max_penetration_pressing)
-                         + " into the tool while it pressed (the contact keeps a "
-                         + millimetres(scene.instrument->contact_margin) + " margin; above "
-                         + millimetres(allowed) + " it did not hold)"});
-    }
+  const double allowed = scene.instrument->contact_margin + limits.penetration_slack;
+  if (contact.max_penetration_pressing > allowed) {
+    out.push_back({kWarningPenetration,
+                   "the tissue went " + millimetres(contact.max_penetration_pressing)
+                       + " into the tool while it pressed (the contact keeps a "
+                       + millimetres(scene.instrument->contact_margin) + " margin; above "
+                       + millimetres(allowed) + " it did not hold)"});
   }
 }
 
