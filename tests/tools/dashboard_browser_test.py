@@ -44,7 +44,7 @@ if BROWSER is None:
     sys.exit(support.SKIP)
 
 WIDTH, HEIGHT = 1280, 3600
-SLOW = "BM_Step/shape_matching/liver.msh/real_time"
+SLOW = "BM_Step/shape_matching/liver.msh/iterations:120/real_time"
 
 # Appended to a copy of the page (never to the page itself, which has no script): what the
 # browser made of each chart, written into the DOM that --dump-dom prints.

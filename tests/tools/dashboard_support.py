@@ -71,13 +71,15 @@ def specs():
     for model, (ms, exponent) in MODELS.items():
         for mesh, (factor, vertices, tets) in MESHES.items():
             time = ms * factor ** exponent
-            result.append(("step_bench", f"BM_Step/{model}/{mesh}/real_time", "ms", time,
+            name = f"BM_Step/{model}/{mesh}/iterations:120/real_time"
+            result.append(("step_bench", name, "ms", time,
                            {"steps_per_s": 1e3 / time, "mean_iterations": 17.5,
                             "vertices": vertices, "dt_s": 1 / 60}, False))
     for solver, ms in (("cg", 1.8), ("cholmod", 21.0)):
         for mesh, (factor, vertices, tets) in MESHES.items():
             time = ms * factor ** 1.25
-            result.append(("fem_bench", f"BM_FemStep/{solver}/{mesh}/threads:1/real_time", "ms",
+            name = f"BM_FemStep/{solver}/{mesh}/threads:1/iterations:120/real_time"
+            result.append(("fem_bench", name, "ms",
                            time, {"steps_per_s": 1e3 / time, "tets": tets, "vertices": vertices,
                                   "cholmod_match": 5e-4}, False))
     result.append(("mass_spring_bench", "BM_MassSpringStep/defaults/liver.msh", "ms", 2.25,

@@ -24,8 +24,8 @@ goals_module = support.load_goals_module()
 
 OLD_DATE = "2026-11-20T10:00:00+00:00"
 NEW_DATE = "2026-11-21T10:00:00+00:00"
-SLOW = "BM_Step/shape_matching/liver.msh/real_time"
-SLIGHTLY_SLOW = "BM_Step/mass_spring/liver.msh/real_time"
+SLOW = "BM_Step/shape_matching/liver.msh/iterations:120/real_time"
+SLIGHTLY_SLOW = "BM_Step/mass_spring/liver.msh/iterations:120/real_time"
 CHART_IDS = ["steps-per-model", "cost-vs-size", "tri-tri-ns-per-pair", "bvh-frame-time"]
 
 
@@ -165,7 +165,7 @@ class PageTest(unittest.TestCase):
 
     def test_a_history_chart_per_headline_benchmark(self):
         history = [i for i in figures(self.page) if i.startswith("history-")]
-        self.assertIn("history-bm-step-shape-matching-liver-msh-real-time", history)
+        self.assertIn("history-bm-step-shape-matching-liver-msh-iterations-120-real-time", history)
         self.assertIn("history-bm-massspringstep-defaults-liver-msh", history)
         # Families timed at several sizes get one chart, at the largest size.
         self.assertEqual([i for i in history if "tritri" in i],
@@ -458,7 +458,7 @@ class GoalsTest(unittest.TestCase):
             self.assertFalse(os.path.exists(out))
 
     def test_two_runs_give_before_and_after(self):
-        fem = "BM_FemStep/cg/liver.msh/threads:1/real_time"
+        fem = "BM_FemStep/cg/liver.msh/threads:1/iterations:120/real_time"
         with tempfile.TemporaryDirectory(prefix="dashboard-goals-") as folder:
             old = support.write(os.path.join(folder, "old.json"), support.make_run(OLD_DATE))
             new = support.write(os.path.join(folder, "new.json"), support.make_run(
