@@ -30,12 +30,12 @@
 // ThreadChoice finds faster (models/thread_choice.h: on a shared 2-core machine a short region
 // loses more to a descheduled thread than it gains). Both thread counts time the same steps
 // (before 2026-12-07 the two-thread run took more steps in its half second, later and cheaper
-// ones, and the ratio read the motion as well as the threads). CHOLMOD calls OpenBLAS, whose pthreads are separate
-// (OPENBLAS_NUM_THREADS): run the CHOLMOD variants with OMP_WAIT_POLICY=passive (our idle OpenMP
-// threads otherwise spin on the cores OpenBLAS needs: liver_x4 107 -> 82 ms), the CG variants
-// with the default policy (passive makes every one of CG's short regions pay a wake-up: x4 with
-// 2 threads 7.0 -> 16 ms). The machine is shared and noisy: run with --benchmark_repetitions=5
-// --benchmark_report_aggregates_only=true and quote medians.
+// ones, and the ratio read the motion as well as the threads). CHOLMOD calls OpenBLAS, whose
+// pthreads are separate (OPENBLAS_NUM_THREADS): run the CHOLMOD variants with
+// OMP_WAIT_POLICY=passive (our idle OpenMP threads otherwise spin on the cores OpenBLAS needs:
+// liver_x4 107 -> 82 ms), the CG variants with the default policy (passive makes every one of CG's
+// short regions pay a wake-up: x4 with 2 threads 7.0 -> 16 ms). The machine is shared and noisy:
+// run with --benchmark_repetitions=5 --benchmark_report_aggregates_only=true and quote medians.
 //
 // Results (2026-11-25, this 2-core Xeon VM, shared: a build ran beside it; medians of 5
 // repetitions, real time), with the iterative solves stopping on the estimated energy-norm error

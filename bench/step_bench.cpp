@@ -60,8 +60,8 @@ struct Variant {
 std::vector<Variant> variants() {
   std::vector<Variant> result;
   for (const std::string& name : builtin_models().default_names()) {
-    result.push_back(
-        {name, name, nullptr, kSceneDt, name == "bullet_deformable" ? kTimedStepsSlow : kTimedSteps});
+    result.push_back({name, name, nullptr, kSceneDt,
+                      name == "bullet_deformable" ? kTimedStepsSlow : kTimedSteps});
   }
   // The mass-spring model's two spring sets, named whatever the defaults are: springs from
   // Young's modulus (Van Gelder) without dashpots, and the thesis's k = 180 N/m, c = 5 N s/m.
