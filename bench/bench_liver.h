@@ -15,6 +15,26 @@
 // The scene-like set-up every model benchmark shares, so all of them time the same work.
 namespace softbench::bench {
 
+/// The steps a model step benchmark times after its warm-up (->Iterations), the same on every
+/// mesh, thread count and machine: 2 s of the liver's sag from rest at the scenes' step. Google
+/// Benchmark's own count follows the step's cost (half a second of steps), so it timed some 500
+/// steps of the FEM's liver, most near rest and cheap, against 15 of liver_x16 in its first
+/// swing, and the costs set side by side (across meshes, thread counts or models) were of
+/// different motions; a faster build also moved its own window to cheaper steps.
+inline constexpr int kTimedSteps = 120;
+/// The same for a model whose step on the larger livers takes a second or more
+/// (bullet_deformable: about 1 s on liver_x4, 2.5 s on liver_x16): fewer steps, the same on every
+/// mesh still.
+inline constexpr int kTimedStepsSlow = 8;
+/// Whether the registry's `model` takes a second or more a step on the larger livers.
+inline bool slow_model(const std::string& model) {
+  return model == "bullet_deformable";
+}
+/// kTimedSteps, or kTimedStepsSlow for a slow model; `batch` (one batch) in a smoke run.
+inline int timed_steps(bool slow, int batch) {
+  return unless_smoke(slow ? kTimedStepsSlow : kTimedSteps, batch);
+}
+
 /// A shipped liver ("liver.msh", "liver_x4.msh", "liver_x16.msh"), read and validated once per
 /// process on first use (not at registration, so running one benchmark loads one mesh).
 const TetMesh& shipped_liver(const std::string& name);

@@ -2,7 +2,7 @@
 // Bullet's soft bodies against ours on the same mesh, in one process, so the ratios are taken
 // under the same machine load:
 //
-//   BM_BulletStep/<variant>/<mesh>      one step at the variant's dt
+//   BM_BulletStep/<variant>/<mesh>      one step at the variant's dt, over bench::timed_steps()
 //   BM_LargestStableDt/<variant>/<mesh> the largest dt of a ladder that survives 1 s
 //
 // Setting: the liver_gravity scene (its material, gravity, fixed band and model blocks, so
@@ -55,14 +55,6 @@ namespace {
 const char* const kLivers[] = {"liver.msh", "liver_x4.msh"};
 constexpr int kWarmUpSteps = 10;
 constexpr int kStepsPerBatch = 4;
-/// The steps BM_BulletStep times after the warm-up, the same on every mesh and machine and for
-/// every model it sets beside another: 2 s of the sag at the scene's step. Google Benchmark's own
-/// count follows the step's cost, so it timed some 12,000 steps of the thesis's shape matching
-/// (200 s of simulated time, nearly all at rest) against 800 of bullet_softbody, and our implicit
-/// models' iterations, which follow the motion, over windows of their own.
-constexpr int kTimedSteps = 120;
-/// The same for bullet_deformable, whose liver_x4 step takes about a second.
-constexpr int kTimedStepsSlow = 8;
 /// s: each rung of the ladder is run this long.
 constexpr double kStabilityTime = 1.0;
 const double kDtLadder[] = {1.0 / 30.0,  1.0 / 60.0,   1.0 / 120.0, 1.0 / 250.0,
@@ -293,8 +285,7 @@ void register_benchmarks() {
           [variant, mesh = std::string(mesh_name)](benchmark::State& state) {
             step_benchmark(state, variant, mesh);
           })
-          ->Iterations(bench::unless_smoke(
-              variant.model == "bullet_deformable" ? kTimedStepsSlow : kTimedSteps, kStepsPerBatch))
+          ->Iterations(bench::timed_steps(bench::slow_model(variant.model), kStepsPerBatch))
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }

@@ -6,7 +6,7 @@
 //
 // Scene-like setting (as step_bench): E 3000 Pa, nu 0.3, 1060 kg/m^3, gravity -z, the vertices
 // in the lowest 10% of the x extent pinned exactly, dt = 1/60 s, from rest. kWarmUpSteps steps
-// first, then kTimedSteps timed, the same steps on every mesh, thread count and machine: the
+// first, then bench::kTimedSteps timed, the same steps on every mesh, thread count and machine: the
 // liver sagging and swinging back (large rotations).
 //
 // Counters (per step unless stated):
@@ -256,12 +256,6 @@ const char* const kLivers[] = {"liver.msh", "liver_x4.msh", "liver_x16.msh"};
 constexpr double kDt = 1.0 / 60.0;
 constexpr int kWarmUpSteps = 10;
 constexpr int kStepsPerBatch = 4;
-/// The steps timed after the warm-up, the same on every mesh, thread count and machine: 2 s of
-/// the sag from rest, the liver swinging down and back through its largest rotations. Google
-/// Benchmark's own count follows the step's cost (half a second of steps), so it timed some 500
-/// steps of the liver, most of them near rest and cheap, against 15 of liver_x16 in its first
-/// swing, and the costs compared across meshes (or thread counts) were of different motions.
-constexpr int kTimedSteps = 120;
 /// 1 s of the sag, from rest: the liver swings down through its largest rotations.
 constexpr int kMatchSteps = 60;
 const Material kLiverMaterial{3000.0, 0.3, 1060.0};
@@ -411,7 +405,7 @@ void register_benchmarks() {
             [variant, mesh = std::string(mesh_name), threads](benchmark::State& state) {
               fem_step(state, variant, mesh, threads);
             })
-            ->Iterations(bench::unless_smoke(kTimedSteps, kStepsPerBatch))
+            ->Iterations(bench::timed_steps(/*slow=*/false, kStepsPerBatch))
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
       }

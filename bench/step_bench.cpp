@@ -6,8 +6,8 @@
 // Van Gelder's springs from E, undamped; thesis_springs: k 180 N/m, c 5 N s/m), and per
 // integrator and solver (BM_Step/mass_spring:<variant>/<mesh>). bench/mass_spring_bench.cpp
 // times the mass-spring step's phases on one core against corotational_fem. Every repetition
-// times the same steps after kWarmUpSteps on every mesh and machine (kTimedSteps: 2 s of the sag
-// at the scenes' step), so the costs compared across meshes are of one motion.
+// times the same steps after kWarmUpSteps on every mesh and machine (bench::timed_steps: 2 s of
+// the sag at the scenes' step), so the costs compared across meshes are of one motion.
 // Time is wall-clock (the models may use OpenMP threads). On a machine with few cores, run with
 // OMP_WAIT_POLICY=passive: CHOLMOD's OpenMP threads otherwise spin-wait on the cores its
 // OpenBLAS threads need (liver.msh's factorisation: 30 ms instead of 16 ms on 2 cores).
@@ -39,29 +39,20 @@ constexpr double kSceneDt = 1.0 / 60.0;
 constexpr double kSymplecticDt = 1e-7;
 constexpr int kWarmUpSteps = 10;
 constexpr int kStepsPerBatch = 4;
-/// The steps timed after the warm-up, the same on every mesh and machine: at the scenes' step,
-/// 2 s of the sag from rest. Google Benchmark's own count follows the step's cost (half a
-/// second of steps): it timed some 1,500 steps of mass_spring on the liver, most of them near
-/// rest and cheap, against 50 of liver_x16 in its first swing, so the costs compared across
-/// meshes were of different motions.
-constexpr int kTimedSteps = 120;
-/// The same for a model whose liver_x16 step takes seconds (bullet_deformable's 2.5 s, CHOLMOD
-/// refactorising mass_spring's system 0.8 s): fewer steps, the same on every mesh still.
-constexpr int kTimedStepsSlow = 8;
 
 struct Variant {
   std::string label;  ///< the benchmark name's model part
   std::string model;  ///< registry key
   nlohmann::json params;
   double dt = kSceneDt;
-  int timed_steps = kTimedSteps;
+  /// Its step on liver_x16 takes about a second or more: bench::kTimedStepsSlow steps.
+  bool slow = false;
 };
 
 std::vector<Variant> variants() {
   std::vector<Variant> result;
   for (const std::string& name : builtin_models().default_names()) {
-    result.push_back({name, name, nullptr, kSceneDt,
-                      name == "bullet_deformable" ? kTimedStepsSlow : kTimedSteps});
+    result.push_back({name, name, nullptr, kSceneDt, bench::slow_model(name)});
   }
   // The mass-spring model's two spring sets, named whatever the defaults are: springs from
   // Young's modulus (Van Gelder) without dashpots, and the thesis's k = 180 N/m, c = 5 N s/m.
@@ -81,7 +72,7 @@ std::vector<Variant> variants() {
                     "mass_spring",
                     {{"integrator", "implicit_euler"}, {"solver", "cholmod"}},
                     kSceneDt,
-                    kTimedStepsSlow});
+                    /*slow=*/true});  // CHOLMOD refactorises: 0.8 s a step on liver_x16
   result.push_back({"mass_spring:symplectic_euler@dt=1e-7",
                     "mass_spring",
                     {{"integrator", "symplectic_euler"},
@@ -127,7 +118,7 @@ void register_benchmarks() {
           [variant, mesh = std::string(mesh_name)](benchmark::State& state) {
             step_benchmark(state, variant, mesh);
           })
-          ->Iterations(bench::unless_smoke(variant.timed_steps, kStepsPerBatch))
+          ->Iterations(bench::timed_steps(variant.slow, kStepsPerBatch))
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
     }
