@@ -353,12 +353,8 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
       !targets_.empty()
       || overlap(inflated(tissue_box, 2.0 * options_.margin + kBoxSlack), instrument_box_);
   if (report_.searched) {
-    instrument_tree_.refit(instrument_world_);
     tissue_distance_.update(positions);
     predicted_distance_.update(predicted_);
-    collide(tissue_distance_.tree(), positions, instrument_tree_, instrument_world_, buffers_,
-            pairs_);
-    report_.triangle_pairs = static_cast<int>(pairs_.size());
     resolve_tissue_vertices(pose, positions);
     resolve_instrument_vertices(pose);
   }
@@ -373,6 +369,23 @@ const std::vector<VertexTarget>& InstrumentContact::resolve(const Eigen::Isometr
     has_move_[v] = 0;
   }
   return targets_;
+}
+
+int InstrumentContact::count_triangle_pairs(const Eigen::Matrix3Xd& positions) {
+  report_.triangle_pairs = 0;
+  if (!report_.searched) {
+    return 0;  // the instrument out of reach: no pair can intersect
+  }
+  // As the step's detection saw them: the tissue where the step started, the instrument where
+  // it ends. The tissue's tree is then refitted back to `positions`, where the next step's
+  // contact (and measure()) will find it, so the count adds no refit to the next step's work.
+  instrument_world_ = last_pose_ * instrument_local_;
+  instrument_tree_.refit(instrument_world_);
+  tissue_distance_.update(start_);
+  collide(tissue_distance_.tree(), start_, instrument_tree_, instrument_world_, buffers_, pairs_);
+  tissue_distance_.update(positions);
+  report_.triangle_pairs = static_cast<int>(pairs_.size());
+  return report_.triangle_pairs;
 }
 
 // A target on the instrument's surface (plus the margin): a tissue vertex's own contact, not a

@@ -28,8 +28,9 @@
 // vertex's hold whose force pulled is dropped, a vertex that ended inside the margin is held on
 // it, and a triangle that ended around an instrument point is held outside it; the harness
 // repeats the step from its start (SceneStepper::step).
-// The tissue and instrument BVHs are refitted and queried for intersecting triangle pairs every
-// step as well: that count is the thesis's measure of contact (table 4.2).
+// The thesis's measure of contact (table 4.2), the intersecting triangle pairs of the tissue's and
+// the instrument's BVHs, is counted on request (count_triangle_pairs()): no hold uses it, so the
+// harness counts it after each step, outside the step's timed work, as it measures penetration.
 // The work follows the contact, not the tissue: while nothing is held and the instrument is out
 // of the contact's reach of the tissue (where the step starts and in its free flight), a step
 // costs a pass over the vertices and nothing is refitted or searched; near it, an instrument
@@ -68,7 +69,8 @@ struct VertexTarget {
 
 /// What one detection found.
 struct ContactReport {
-  int triangle_pairs = 0;        ///< intersecting tissue-instrument triangle pairs (resolve)
+  /// intersecting tissue-instrument triangle pairs (count_triangle_pairs())
+  int triangle_pairs = 0;
   double max_penetration = 0.0;  ///< m: the deepest tissue vertex or instrument point (measure)
   /// Whether the step's trees were refitted and searched (resolve): not when nothing was held
   /// and the instrument was out of the contact's reach of the tissue, at the step's start and in
@@ -95,8 +97,8 @@ class InstrumentContact {
   /// The targets for a step of `dt` that ends with the instrument at `pose` (its frame ->
   /// world), from the tissue's positions and velocities at the step's start (contact is judged
   /// on the free-flight prediction x + dt v) and the constraint forces (3 x #V, N) the previous
-  /// step's targets exerted (zero on the first step). Also refits both trees and counts the
-  /// intersecting triangle pairs (report()).
+  /// step's targets exerted (zero on the first step). Refits the tissue's trees where the
+  /// instrument is within reach (report().searched).
   const std::vector<VertexTarget>& resolve(const Eigen::Isometry3d& pose,
                                            const Eigen::Matrix3Xd& positions,
                                            const Eigen::Matrix3Xd& velocities,
@@ -122,6 +124,14 @@ class InstrumentContact {
                            const Eigen::Matrix3Xd& forces);
   /// The current targets (resolve()'s, as refine() changed them).
   const std::vector<VertexTarget>& targets() const { return targets_; }
+
+  /// The thesis's measure of contact (table 4.2): the intersecting triangle pairs of the tissue
+  /// where the last resolve()'s step started and the instrument where it ends, as that step's
+  /// detection saw them (0 where it did not search). A measure only, which the targets do not
+  /// use: the harness takes it after the step, outside the step's timed work (with measure()),
+  /// `positions` being the tissue's at the step's end, where the tissue's tree is left. Refits
+  /// the instrument's tree, and the tissue's twice.
+  int count_triangle_pairs(const Eigen::Matrix3Xd& positions);
 
   /// Penetration of the tissue at `positions` by the instrument at `pose`, without resolving
   /// (for metrics after a step): fills the returned report's vertex counts and

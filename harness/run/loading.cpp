@@ -110,7 +110,6 @@ std::span<const PositionConstraint> Loading::constraints(double start,
     end_pose_ = scenes::instrument_pose(*scene_.instrument, end);
     contact_->resolve(end_pose_, positions, velocities, dt, last_forces);
     add_contact_targets();
-    max_triangle_pairs_ = std::max(max_triangle_pairs_, contact_->report().triangle_pairs);
   }
   return constraints_;
 }
@@ -197,6 +196,7 @@ void Loading::observe(double end,
   tool_displacement_ =
       end <= instrument.start ? 0.0 : (tool_origin(end) - tool_origin(instrument.start)).norm();
   const Eigen::Isometry3d pose = scenes::instrument_pose(instrument, end);
+  max_triangle_pairs_ = std::max(max_triangle_pairs_, contact_->count_triangle_pairs(positions));
   const double penetration = contact_->measure(pose, positions).max_penetration;
   max_penetration_ = std::max(max_penetration_, penetration);
   if (end > instrument.start && end <= instrument.release) {

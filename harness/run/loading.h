@@ -57,9 +57,10 @@ class Loading {
   /// m, over the observes from the instrument's start to its release.
   double max_penetration_pressing() const { return max_penetration_pressing_; }
   int lost_contact_vertices() const;
-  /// The most intersecting tissue-instrument triangle pairs at any constraints() call (the
-  /// step's start): the thesis's measure of contact (table 4.2); 0 while the contact keeps the
-  /// tissue outside the instrument's margin.
+  /// The most intersecting tissue-instrument triangle pairs of any step, the tissue where the
+  /// step started and the instrument where it ended, counted at observe() (outside the step's
+  /// timed work: the contact's holds do not use it): the thesis's measure of contact (table
+  /// 4.2); 0 while the contact keeps the tissue outside the instrument's margin.
   int max_triangle_pairs() const { return max_triangle_pairs_; }
 
  private:
