@@ -354,10 +354,10 @@ void contact_benchmark(benchmark::State& state,
       double model_seconds = 0.0;
       const double before = thread_cpu_seconds();
       const StepStats stats = stepper.step(step, *body, &model_seconds, thread_cpu_seconds);
-      const double contact_seconds = thread_cpu_seconds() - before - model_seconds;
-      const double before_measures = thread_cpu_seconds();
+      const double stepped_at = thread_cpu_seconds();
+      const double contact_seconds = stepped_at - before - model_seconds;
       stepper.observe(step, *body);
-      const double measure_seconds = thread_cpu_seconds() - before_measures;
+      const double measure_seconds = thread_cpu_seconds() - stepped_at;
       if (!stats.finite) {
         state.SkipWithError((model_name + " diverged on " + scene_name).c_str());
         return;
