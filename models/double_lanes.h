@@ -44,6 +44,10 @@ inline void store_pair(double* at, Pair pair) {
   std::memcpy(at, &pair, sizeof(pair));
 }
 
+inline void store_quad(double* at, Quad quad) {
+  std::memcpy(at, &quad, sizeof(quad));
+}
+
 /// Lane by lane. SSE2's one instruction for both where the target has it: std::sqrt may set
 /// errno, so the compiler keeps a check and a library call per lane.
 inline Pair sqrt_pair(Pair pair) {
