@@ -72,6 +72,20 @@
 //   kept as x, y, z side by side (one four-lane load a membership in the per-particle gather):
 //   19.7-19.8k -> 20.7k steps/s against the code before both. Positions to round-off (the sums'
 //   order changed).
+//   2026-12-08, bullet_bench, builds alternated (CPU-time medians of 7): the members' offsets
+//   gathered four at a time into vectors (one subtract, multiply and store a coordinate where
+//   the scalar loop took three of each a member), the goals made eight members at a time (each
+//   of the fit's 27 coefficients, which do not fit in the registers beside the sums, loaded once
+//   for two vectors of members), and the moments' twelve sums as named vectors (an array of them
+//   was cleared by a `rep stos` at each of the three calls a cluster): thesis_one_pass 50-53 ->
+//   45-47 us (bullet_softbody 0.68-0.71 ms in the same minutes, 14.0x -> 15.0-15.2x). Positions
+//   to round-off (1e-15 relative on the liver's recovery residual). Tried and not kept: each
+//   particle's goal summed by adding each membership's goal into it as its cluster is matched
+//   (no per-particle gather: 1-2% faster, not worth a second way to sum the goals), the
+//   per-particle gathers padded to four memberships (no change), the last n mod 8 goals in
+//   zero-padded lanes (slower), the constrained particles' loops over the constraint lists
+//   instead of every particle (no change). BM_ShapeMatchingHolds (four passes, medians of 3)
+//   after: free 158 us, pinned 179 us (1.13x), contact 202 us (1.28x).
 #include "bench/bench_liver.h"
 #include "bench/thread_cpu_clock.h"
 #include "geometry/mesh_data.h"
