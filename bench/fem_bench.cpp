@@ -223,7 +223,11 @@
 // fastest of 9 repetitions each: assembly_ms 0.197-0.266 -> 0.165-0.186; cholmod_match
 // (0.0132%), the iterations (6.51) and the residual unchanged to the digits printed. The same
 // split of the sweeps' neighbour sums again gained nothing (solve 0.63 -> 0.70 ms in quiet
-// pairs): their chain is the sweep's own, row after row, which two sets of sums do not shorten.
+// pairs). Nor did shortening the sweep's own chain from one row to the next: each row's nearest
+// neighbour (the newest value) applied apart as D_c^-1 A_cn y_n, with D_c^-1 A_cn made at the
+// solve's start, so that the row's other sums and its D_c^-1 product need not wait for it. The
+// same iterates to the digits printed, and the solve slower (fastest of 7, alternated five
+// times: 0.57-0.70 -> 0.65-0.72 ms): the sweeps are bound by their work, not that chain.
 //
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
