@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <set>
 #include <vector>
@@ -229,6 +230,53 @@ TEST(ShapeMatchingClusters, EachParticlesGoalIsTheMeanOfItsClustersGoals) {
   for (Eigen::Index i = 0; i < current.cols(); ++i) {
     const auto index = static_cast<std::size_t>(i);
     EXPECT_TRUE(goals.col(i).isApprox(sums[index] / counts[index], 1e-14)) << i;
+  }
+}
+
+// The kernels take a cluster's members four and eight at a time, then the rest one by one: every
+// size from one member to a few rounds past eight, in both bases, must give the same goals. A
+// map of a cluster's own basis (linear: any 3x3 map, quadratic: any field of its nine
+// monomials) is fitted exactly, so each goal is its member's deformed position to round-off.
+TEST(ShapeMatchingClusters, EveryClusterSizeFitsAMapOfItsBasisExactly) {
+  Eigen::Matrix<double, 3, 9> field;
+  field << 1.1, 0.2, -0.1, 0.3, -0.2, 0.1, 0.4, 0.0, -0.3,  //
+      -0.1, 0.9, 0.2, 0.0, 0.5, -0.4, 0.1, 0.2, 0.0,        //
+      0.2, 0.1, 1.2, -0.3, 0.0, 0.2, 0.0, -0.1, 0.3;
+  for (const auto type :
+       {ShapeMatchingParams::Type::kLinear, ShapeMatchingParams::Type::kQuadratic}) {
+    ShapeMatchingParams params;
+    params.type = type;
+    params.beta = 1.0;
+    params.preserve_volume = false;
+    params.rotation = ShapeMatchingParams::Rotation::kSvd;
+    const int basis = type == ShapeMatchingParams::Type::kLinear ? 3 : 9;
+    for (int n = 1; n <= 27; ++n) {
+      const Eigen::Matrix3Xd rest = random_cloud().leftCols(n);
+      Clusters one;
+      one.seeds = {0};
+      one.radius = std::numeric_limits<double>::infinity();
+      one.offsets = {0, n};
+      one.members.resize(static_cast<std::size_t>(n));
+      std::iota(one.members.begin(), one.members.end(), 0);
+      Eigen::VectorXd masses(n);
+      for (int i = 0; i < n; ++i) {
+        masses(i) = 1.0 + 0.1 * (i % 5);  // unequal: the weights enter every sum
+      }
+      ClusterMatcher matcher(rest, masses, one, params);
+      Eigen::Matrix3Xd deformed(3, n);
+      for (int i = 0; i < n; ++i) {
+        const Eigen::Vector3d q = rest.col(i);
+        Eigen::Matrix<double, 9, 1> monomials;
+        monomials << q, q.cwiseAbs2(), q.x() * q.y(), q.y() * q.z(), q.z() * q.x();
+        deformed.col(i) = field.leftCols(basis) * monomials.head(basis);
+      }
+      Eigen::Matrix3Xd goals;
+      matcher.match(deformed, goals);
+      for (int i = 0; i < n; ++i) {
+        EXPECT_LT((goals.col(i) - deformed.col(i)).norm(), 1e-9)
+            << "basis " << basis << ", " << n << " members, member " << i;
+      }
+    }
   }
 }
 
