@@ -228,6 +228,12 @@
 // solve's start, so that the row's other sums and its D_c^-1 product need not wait for it. The
 // same iterates to the digits printed, and the solve slower (fastest of 7, alternated five
 // times: 0.57-0.70 -> 0.65-0.72 ms): the sweeps are bound by their work, not that chain.
+// Two threads on liver_x16 (1.69-1.77x in the day's goals runs): of every place the reverse
+// Cuthill-McKee numbering could be cut in two, the one taken already minimises a sweep's time on
+// two threads (the larger part's work plus the separator's, swept by one thread), at 8.8% of the
+// work in the separator (liver_x4 8.5%). A smaller separator needs a vertex separator that is
+// not one level of the breadth-first search (METIS's, which Debian's CHOLMOD exposes as
+// cholmod_metis_bisector): not tried.
 //
 // Before the stopping rule (2026-11-22, |r| <= 1e-2 |b|): cg 1.46 / 9.71 / 64.6 ms at 15.3 /
 // 29.9 / 50.8 iterations, match 0.099% / 0.075% / 0.073% under gravity, but 7-11x Hertz's force
