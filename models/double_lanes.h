@@ -44,6 +44,11 @@ inline void store_pair(double* at, Pair pair) {
   std::memcpy(at, &pair, sizeof(pair));
 }
 
+/// `value` in every lane.
+inline Quad broadcast_quad(double value) {
+  return Quad{value, value, value, value};
+}
+
 inline void store_quad(double* at, Quad quad) {
   std::memcpy(at, &quad, sizeof(quad));
 }

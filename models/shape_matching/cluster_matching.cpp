@@ -198,13 +198,13 @@ void goal_rows(const Eigen::Matrix<double, 3, D>& t,
   Quad ty[D];
   Quad tz[D];
   for (int d = 0; d < D; ++d) {
-    tx[d] = Quad{t(0, d), t(0, d), t(0, d), t(0, d)};
-    ty[d] = Quad{t(1, d), t(1, d), t(1, d), t(1, d)};
-    tz[d] = Quad{t(2, d), t(2, d), t(2, d), t(2, d)};
+    tx[d] = broadcast_quad(t(0, d));
+    ty[d] = broadcast_quad(t(1, d));
+    tz[d] = broadcast_quad(t(2, d));
   }
-  const Quad cx = {centre.x(), centre.x(), centre.x(), centre.x()};
-  const Quad cy = {centre.y(), centre.y(), centre.y(), centre.y()};
-  const Quad cz = {centre.z(), centre.z(), centre.z(), centre.z()};
+  const Quad cx = broadcast_quad(centre.x());
+  const Quad cy = broadcast_quad(centre.y());
+  const Quad cz = broadcast_quad(centre.z());
   int j = 0;
   for (; j + 8 <= n; j += 8) {
     Quad gx0 = cx;
@@ -458,9 +458,9 @@ int ClusterMatcher::match_cluster_with(int cluster, const Eigen::Matrix3Xd& posi
   // Four members at a time: their coordinates gathered into a vector each, then one subtract,
   // multiply and store a coordinate (the scalar loop took three of each a member, and reloaded
   // the weight for each store it could not prove apart from it).
-  const Quad rx4 = {rx, rx, rx, rx};
-  const Quad ry4 = {ry, ry, ry, ry};
-  const Quad rz4 = {rz, rz, rz, rz};
+  const Quad rx4 = broadcast_quad(rx);
+  const Quad ry4 = broadcast_quad(ry);
+  const Quad rz4 = broadcast_quad(rz);
   int j = 0;
   for (; j + 4 <= n; j += 4) {
     const double* a = x + 3 * static_cast<std::ptrdiff_t>(particle[j]);
